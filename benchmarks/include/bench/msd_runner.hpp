@@ -1,0 +1,66 @@
+// Binds a Spec to the msd library: builds the sample geometry and mesh, the
+// model with the spec's terms and constants, the platens and loading path, runs
+// the test and writes the results file.
+#pragma once
+
+#include "bench/spec.hpp"
+#include "msd/experiments/uniaxial.hpp"
+#include "msd/geometry/triangle_mesh.hpp"
+#include "msd/mesh/cubic_grid.hpp"
+
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace bench {
+
+/// The closed surface a spec's geometry describes.
+msd::TriangleMesh make_surface(const GeometrySpec& g);
+
+/// The spec's sample meshed on the cubic grid.
+msd::SampleMesh make_sample_mesh(const Spec& spec);
+
+/// The spec's material as msd constants.
+msd::TissueMaterial make_material(const Spec& spec);
+
+/// Everything needed to run the spec's test with the MSD model.
+struct MsdProblem {
+  msd::SampleMesh sample;
+  msd::Model model;
+  msd::UniaxialSetup setup;
+  msd::LoadingPath path;
+  msd::TimeSteppingOptions stepping;
+};
+
+MsdProblem compile_msd(const Spec& spec);
+
+/// The material constants actually used, for /meta/material.
+std::vector<std::pair<std::string, double>> material_record(const Spec& spec,
+                                                            const msd::Model& model);
+
+struct RunSummary {
+  std::string name;
+  bool complete = false;
+  std::string failure;
+  std::string out_path;
+  int nodes = 0, tets = 0;
+  long cubes = 0;
+  long steps = 0;
+  double wall_seconds = 0.0;
+  double simulated_seconds = 0.0;
+  double min_strain = 0.0, max_strain = 0.0;
+  double min_stress = 0.0, max_stress = 0.0;       ///< Pa
+  double min_volume_ratio = 1.0, max_volume_ratio = 1.0;
+  int max_inverted = 0;
+};
+
+/// Progress callback: simulated time reached and the run's end time.
+using Progress = std::function<void(double t, double end)>;
+
+/// Runs the spec with the MSD model, writing `out_path` (HDF5) and its CSV twin.
+/// Bad input throws msd::Error before any file is created. A simulation failure
+/// is recorded in the file (status "failed") and returned in the summary.
+RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress& progress = {});
+
+}  // namespace bench

@@ -1,0 +1,220 @@
+#include "bench/spec.hpp"
+
+#include "bench/yaml_fields.hpp"
+#include "msd/core/types.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace bench {
+
+namespace {
+
+Eigen::Vector3d vec3(const Fields& f, const std::string& key) {
+  const std::vector<double> v = f.number_list(key);
+  if (v.size() != 3) throw msd::Error(f.where(key) + "expected three numbers [x, y, z]");
+  return Eigen::Vector3d(v[0], v[1], v[2]);
+}
+
+void positive(const Fields& f, const std::string& key, double v, const std::string& unit) {
+  if (!(v > 0.0)) throw msd::Error(f.where(key) + "must be positive (" + unit + "), got " + std::to_string(v));
+}
+
+void one_of(const Fields& f, const std::string& key, const std::string& v,
+            const std::vector<std::string>& options) {
+  for (const auto& o : options)
+    if (v == o) return;
+  std::string list;
+  for (const auto& o : options) list += (list.empty() ? "" : ", ") + o;
+  throw msd::Error(f.where(key) + "'" + v + "' is not one of: " + list);
+}
+
+GeometrySpec parse_geometry(const Fields& f, const std::string& source) {
+  GeometrySpec g;
+  g.shape = f.text("shape");
+  one_of(f, "shape", g.shape, {"cylinder", "box", "obj"});
+  if (g.shape == "cylinder") {
+    f.only({"shape", "radius", "height", "segments"});
+    g.radius = f.number("radius");
+    positive(f, "radius", g.radius, "m");
+    g.height = f.number("height");
+    positive(f, "height", g.height, "m");
+    g.segments = static_cast<int>(f.integer_or("segments", 64));
+    if (g.segments < 3 || g.segments > 100000)
+      throw msd::Error(f.where("segments") + "must be between 3 and 100000");
+  } else if (g.shape == "box") {
+    f.only({"shape", "size"});
+    g.size = vec3(f, "size");
+    for (int a = 0; a < 3; ++a)
+      if (!(g.size[a] > 0.0)) throw msd::Error(f.where("size") + "every side must be positive (m)");
+  } else {
+    f.only({"shape", "file"});
+    const std::filesystem::path p(f.text("file"));
+    const std::filesystem::path base = std::filesystem::path(source).parent_path();
+    g.file = (p.is_absolute() || base.empty()) ? p.string() : (base / p).string();
+  }
+  return g;
+}
+
+MeshSpec parse_mesh(const Fields& f) {
+  f.only({"spacing", "rule", "origin", "max_cubes"});
+  MeshSpec m;
+  m.spacing = f.number("spacing");
+  positive(f, "spacing", m.spacing, "m");
+  m.rule = f.text_or("rule", m.rule);
+  one_of(f, "rule", m.rule, {"centre", "center", "inside", "overlap"});
+  if (f.has("origin")) m.origin = vec3(f, "origin");
+  m.max_cubes = f.integer_or("max_cubes", m.max_cubes);
+  if (m.max_cubes < 1) throw msd::Error(f.where("max_cubes") + "must be at least 1");
+  return m;
+}
+
+MaterialSpec parse_material(const Fields& f) {
+  f.only({"name", "density", "youngs_modulus", "poisson_ratio", "damping_time"});
+  MaterialSpec m;
+  m.name = f.text_or("name", "");
+  m.density = f.number("density");
+  positive(f, "density", m.density, "kg/m^3");
+  if (f.has("youngs_modulus")) {
+    m.youngs_modulus = f.number("youngs_modulus");
+    positive(f, "youngs_modulus", *m.youngs_modulus, "Pa");
+  }
+  if (f.has("poisson_ratio")) {
+    m.poisson_ratio = f.number("poisson_ratio");
+    if (!(*m.poisson_ratio > -1.0 && *m.poisson_ratio < 0.5))
+      throw msd::Error(f.where("poisson_ratio") + "must lie in (-1, 0.5)");
+  }
+  if (f.has("damping_time")) {
+    m.damping_time = f.number("damping_time");
+    if (*m.damping_time < 0.0) throw msd::Error(f.where("damping_time") + "must be >= 0 (s)");
+  }
+  return m;
+}
+
+MsdSpec parse_msd(const Fields& f) {
+  f.only({"constants", "k_s", "k_d", "k_r", "k_v", "stiffness_scale", "repulsion_factor",
+          "volume_factor", "repulsion_floor", "mass_lumping", "terms", "nonlinear_threshold",
+          "integrator", "dt"});
+  MsdSpec m;
+  m.constants = f.text_or("constants", m.constants);
+  one_of(f, "constants", m.constants, {"raw", "physical"});
+  const bool raw = m.constants == "raw";
+  for (const char* k : {"k_s", "k_d", "k_r", "k_v"})
+    if (!raw && f.has(k))
+      throw msd::Error(f.where(k) + "raw constants need 'constants: raw'");
+  for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor"})
+    if (raw && f.has(k))
+      throw msd::Error(f.where(k) + "only meaningful with 'constants: physical'");
+  if (raw) {
+    m.k_s = f.number("k_s");
+    positive(f, "k_s", m.k_s, "N/m");
+    m.k_d = f.number_or("k_d", 0.0);
+    m.k_r = f.number_or("k_r", 0.0);
+    m.k_v = f.number_or("k_v", 0.0);
+    for (const char* k : {"k_d", "k_r", "k_v"})
+      if (f.number_or(k, 0.0) < 0.0) throw msd::Error(f.where(k) + "must be >= 0");
+  } else {
+    m.stiffness_scale = f.number_or("stiffness_scale", 1.0);
+    positive(f, "stiffness_scale", m.stiffness_scale, "dimensionless");
+    m.repulsion_factor = f.number_or("repulsion_factor", 0.0);
+    m.volume_factor = f.number_or("volume_factor", 0.0);
+    for (const char* k : {"repulsion_factor", "volume_factor"})
+      if (f.number_or(k, 0.0) < 0.0) throw msd::Error(f.where(k) + "must be >= 0");
+  }
+  m.repulsion_floor = f.number_or("repulsion_floor", m.repulsion_floor);
+  if (!(m.repulsion_floor > 0.0 && m.repulsion_floor < 1.0))
+    throw msd::Error(f.where("repulsion_floor") + "must lie in (0, 1)");
+  m.mass_lumping = f.text_or("mass_lumping", m.mass_lumping);
+  one_of(f, "mass_lumping", m.mass_lumping, {"per_tet", "equal"});
+  if (f.has("terms")) {
+    m.terms = f.text_list("terms");
+    for (const auto& t : m.terms)
+      one_of(f, "terms", t, {"springs", "dampers", "repulsion", "volume"});
+  }
+  if (f.has("nonlinear_threshold")) {
+    const YAML::Node n = f.node()["nonlinear_threshold"];
+    if (n.IsScalar() && (n.Scalar() == "off" || n.Scalar() == "false")) {
+      m.nonlinear_threshold = 0.0;
+    } else {
+      m.nonlinear_threshold = f.number("nonlinear_threshold");
+      if (!(m.nonlinear_threshold > 0.0 && m.nonlinear_threshold <= 1.0))
+        throw msd::Error(f.where("nonlinear_threshold") + "must be 'off' or in (0, 1]");
+    }
+  }
+  m.integrator = f.text_or("integrator", m.integrator);
+  one_of(f, "integrator", m.integrator,
+         {"explicit_euler", "symplectic_euler", "semi_implicit_euler", "velocity_verlet"});
+  m.dt = f.number("dt");
+  positive(f, "dt", m.dt, "s");
+  return m;
+}
+
+LoadingSpec parse_loading(const Fields& f) {
+  f.only({"type", "platens", "path", "gravity"});
+  LoadingSpec l;
+  l.type = f.text("type");
+  one_of(f, "type", l.type, {"uniaxial"});
+  l.platens = f.text_or("platens", l.platens);
+  one_of(f, "platens", l.platens, {"bonded", "frictionless"});
+  const YAML::Node p = f.node()["path"];
+  if (p && p.IsScalar()) {
+    if (p.Scalar() != "thesis_cycle")
+      throw msd::Error(f.where("path") + "expected 'thesis_cycle' or a list of [time, strain]");
+    l.path = {{0.0, 0.0}, {2.0, -0.5}, {4.0, 0.0}, {8.0, 1.0}, {12.0, 0.0}};
+  } else {
+    l.path = f.pair_list("path");
+  }
+  if (l.path.size() < 2 || l.path.front().first != 0.0)
+    throw msd::Error(f.where("path") + "needs at least two [time, strain] points starting at time 0");
+  for (size_t i = 1; i < l.path.size(); ++i)
+    if (!(l.path[i].first > l.path[i - 1].first))
+      throw msd::Error(f.where("path") + "times must increase strictly (point " + std::to_string(i) + ")");
+  for (const auto& [t, e] : l.path)
+    if (!(e > -1.0)) throw msd::Error(f.where("path") + "nominal strain must stay above -1");
+  if (f.has("gravity")) l.gravity = vec3(f, "gravity");
+  return l;
+}
+
+}  // namespace
+
+Spec parse_spec(const std::string& text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw msd::Error(source + ":" + std::to_string(e.mark.line + 1) + ":" +
+                     std::to_string(e.mark.column + 1) + ": YAML syntax error: " + e.msg);
+  }
+  if (!root || root.IsNull()) throw msd::Error(source + ": the spec is empty");
+  const Fields f(root, "", source);
+  f.only({"name", "description", "geometry", "mesh", "material", "msd", "loading", "output"});
+  Spec s;
+  s.path = source;
+  s.text = text;
+  s.name = f.text("name");
+  s.description = f.text_or("description", "");
+  s.geometry = parse_geometry(f.section("geometry"), source);
+  s.mesh = parse_mesh(f.section("mesh"));
+  s.material = parse_material(f.section("material"));
+  s.msd = parse_msd(f.section("msd"));
+  s.loading = parse_loading(f.section("loading"));
+  if (auto o = f.optional_section("output")) {
+    o->only({"interval"});
+    s.output.interval = o->number("interval");
+    positive(*o, "interval", s.output.interval, "s");
+  }
+  if (s.msd.constants == "physical" && !s.material.youngs_modulus)
+    throw msd::Error(f.where("material") + "youngs_modulus is required for 'msd.constants: physical'");
+  return s;
+}
+
+Spec load_spec(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw msd::Error(path + ": cannot open spec file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_spec(ss.str(), path);
+}
+
+}  // namespace bench

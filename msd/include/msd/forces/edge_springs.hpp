@@ -1,0 +1,31 @@
+// Edge springs of the MSD element (thesis 5.1.2, first line of eq. 5.4): a
+// linear spring on each of the six tet edges,
+//   F_a = k_s (|l| - r) l / |l|  on vertex a of edge (a, b), l = x_b - x_a,
+// and the opposite force on b. Energy: k_s (|l| - r)^2 / 2 per edge.
+#pragma once
+
+#include "msd/forces/edge_frame.hpp"
+
+namespace msd {
+
+/// Adds the six spring forces of one tet to f[0..3].
+/// rest[e] and ks[e] follow the edge order of kTetEdges.
+inline void add_edge_springs(const EdgeFrame& g, const double rest[6], const double ks[6], Vec3 f[4]) {
+  for (int e = 0; e < 6; ++e) {
+    const Vec3 fa = (ks[e] * (g.length[e] - rest[e]) * g.inv_length[e]) * g.l[e];
+    f[kTetEdges[e][0]] += fa;
+    f[kTetEdges[e][1]] -= fa;
+  }
+}
+
+/// Elastic energy of the six springs of one tet.
+inline double edge_spring_energy(const Vec3 x[4], const double rest[6], const double ks[6]) {
+  double u = 0.0;
+  for (int e = 0; e < 6; ++e) {
+    const double d = (x[kTetEdges[e][1]] - x[kTetEdges[e][0]]).norm() - rest[e];
+    u += 0.5 * ks[e] * d * d;
+  }
+  return u;
+}
+
+}  // namespace msd

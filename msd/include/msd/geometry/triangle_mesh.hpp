@@ -1,0 +1,58 @@
+// Closed triangle surfaces: the geometric layer of the thesis (4.5) and the input
+// of the cubic-grid mesher. Built-in shapes, OBJ input/output, and validation.
+#pragma once
+
+#include "msd/core/types.hpp"
+
+#include <string>
+#include <vector>
+
+namespace msd {
+
+/// A triangle surface. `vertices` is 3 x V; each triangle lists three vertex
+/// indices counter-clockwise when seen from outside (outward normals).
+struct TriangleMesh {
+  Points vertices;
+  std::vector<Tri> triangles;
+
+  int num_vertices() const { return static_cast<int>(vertices.cols()); }
+  int num_triangles() const { return static_cast<int>(triangles.size()); }
+};
+
+struct Aabb {
+  Vec3 lo{Vec3::Constant(0.0)};
+  Vec3 hi{Vec3::Constant(0.0)};
+};
+
+/// Axis-aligned bounding box of the vertices (the mesh must not be empty).
+Aabb bounding_box(const TriangleMesh& mesh);
+
+/// Volume enclosed by a closed surface (divergence theorem); positive when the
+/// triangles face outwards.
+double enclosed_volume(const TriangleMesh& mesh);
+
+/// Cylinder along +z: base centred at the origin, top at z = height. The side
+/// is a prism over a regular polygon with `segments` vertices inscribed in the
+/// circle of `radius` (first vertex on +x); caps are fans around a centre vertex.
+TriangleMesh make_cylinder(double radius, double height, int segments);
+
+/// Axis-aligned box [lo, hi], two triangles per face.
+TriangleMesh make_box(const Vec3& lo, const Vec3& hi);
+
+/// Reads a Wavefront OBJ file: `v x y z` and `f a b c ...` records (polygons
+/// are fan-triangulated; `a/b/c` forms and negative indices accepted; other
+/// records ignored). Errors name the file and line.
+TriangleMesh read_obj(const std::string& path);
+
+/// Writes `mesh` as OBJ (vertices with 17 significant digits).
+void write_obj(const std::string& path, const TriangleMesh& mesh);
+
+/// Checks that `mesh` bounds a solid: finite coordinates, valid indices, no
+/// degenerate triangle, every edge shared by exactly two triangles (closed and
+/// edge-manifold), every vertex fan a single disc (vertex-manifold), neighbouring
+/// triangles consistently oriented, and outward orientation (positive enclosed
+/// volume). Throws msd::Error whose message starts with `name` and states the
+/// first fault found, with the triangle, edge or vertex indices involved.
+void validate_closed_surface(const TriangleMesh& mesh, const std::string& name);
+
+}  // namespace msd

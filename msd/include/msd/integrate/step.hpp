@@ -1,0 +1,57 @@
+// Time stepping (thesis 5.8: explicit Euler) with the kinematic constraints of
+// the platens. step() is the whole update: accumulate the enabled force terms,
+// integrate, apply prescribed motion, stop on a non-finite value.
+//
+//  - Explicit Euler (the thesis' method):
+//      x+ = x + dt v,  v+ = v + dt a(x, v)
+//  - Semi-implicit (symplectic) Euler:
+//      v+ = v + dt a(x, v),  x+ = x + dt v+
+//  - Velocity Verlet (kick-drift-kick; dampers see the half-step velocity):
+//      v' = v + dt/2 a,  x+ = x + dt v',  a+ = a(x+, v'),  v+ = v' + dt/2 a+
+//    One force evaluation per step: a+ is kept in the State for the next step.
+// Constrained components of kinematic-group nodes are set to the prescribed
+// position and velocity after each update.
+#pragma once
+
+#include "msd/model/model.hpp"
+
+#include <string>
+
+namespace msd {
+
+enum class Integrator { ExplicitEuler, SymplecticEuler, VelocityVerlet };
+
+/// Parses "explicit_euler", "symplectic_euler" (or "semi_implicit_euler"),
+/// "velocity_verlet".
+Integrator parse_integrator(const std::string& name);
+std::string to_string(Integrator integrator);
+
+/// A run that produced a non-finite value or blew up. Carries when and where.
+class SimulationFailure : public Error {
+ public:
+  SimulationFailure(const std::string& reason, double time, long step, int element, int node);
+  double time;
+  long step;
+  int element;  ///< -1 when not tied to one element
+  int node;     ///< -1 when not tied to one node
+  std::string reason;
+};
+
+/// Sets the constrained components of group nodes from `controls`.
+void apply_constraints(const Model& model, const Controls& controls, State& state);
+
+/// Acceleration f / m (+ gravity when enabled) from the internal forces in
+/// scratch.f.
+void accelerations(const Model& model, const Scratch& scratch, Points& a);
+
+/// Advances `state` by dt. `controls` prescribe the kinematic groups at t + dt.
+/// Throws SimulationFailure (naming the element, node, time and step) if a force,
+/// position or velocity becomes non-finite.
+void step(const Model& model, State& state, const Controls& controls, double dt,
+          Integrator integrator, Scratch& scratch);
+
+/// Evaluates internal forces at the current state into scratch.f (and the
+/// nonlinear activity count), throwing SimulationFailure on a non-finite value.
+void evaluate_forces(const Model& model, const State& state, Scratch& scratch);
+
+}  // namespace msd

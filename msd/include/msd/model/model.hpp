@@ -1,0 +1,109 @@
+// The model / state / scratch split (design notes): a Model is everything fixed
+// once a scene is compiled - rest positions, lumped masses, per-element rest data
+// and constants, which force terms are on, kinematic node groups. A State is what
+// changes every step. Scratch holds buffers reused between steps.
+#pragma once
+
+#include "msd/core/types.hpp"
+#include "msd/material/tissue_material.hpp"
+#include "msd/mesh/tet_mesh.hpp"
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace msd {
+
+/// Force terms; a model evaluates only those it was built with.
+enum ForceTerm : unsigned {
+  kSprings = 1u << 0,    ///< edge springs, k_s (5.1.2)
+  kDampers = 1u << 1,    ///< edge dampers, k_d (5.1.2)
+  kRepulsion = 1u << 2,  ///< face repulsion + equalisation, k_r (eq. 5.1-5.4)
+  kVolume = 1u << 3,     ///< volume preservation + equalisation, k_v (eq. 5.5)
+  kGravity = 1u << 4,    ///< uniform gravity on every node
+};
+
+/// Parses "springs", "dampers", "repulsion", "volume", "gravity".
+ForceTerm parse_force_term(const std::string& name);
+std::string force_terms_to_string(unsigned terms);
+
+/// Rest data and constants of one tetrahedral element.
+struct Element {
+  Tet nodes;
+  int region = 0;
+  double rest_volume = 0.0;
+  double rest_length[6];   ///< kTetEdges order
+  double rest_height[4];   ///< vertex i over the plane of its opposite face
+  double floor = 0.01;     ///< repulsion tangent continuation (fraction of x0)
+  ElementConstants k;
+};
+
+/// Nodes whose motion is prescribed: for each prescribed axis, position =
+/// rest position + offset(t) and velocity = velocity(t), both from Controls.
+/// (A bonded platen prescribes all three axes; a frictionless one only its
+/// normal axis.)
+struct KinematicGroup {
+  std::string name;
+  std::vector<int> nodes;
+  bool axes[3] = {true, true, true};
+};
+
+struct Model {
+  Points rest_positions;          ///< 3 x N
+  Eigen::VectorXd mass;           ///< N, kg
+  Eigen::VectorXd inv_mass;       ///< N, 1/kg
+  std::vector<Element> elements;
+  unsigned terms = 0;
+  /// Repulsion and volume terms act only in elements where some vertex height
+  /// has dropped below this fraction of its rest value (thesis 5.8 used 0.7);
+  /// 0 means always on (the thesis' own material tests).
+  double nonlinear_threshold = 0.0;
+  Vec3 gravity{Vec3::Zero()};
+  std::vector<KinematicGroup> groups;
+  std::vector<TissueMaterial> region_materials;  ///< by region label
+
+  int num_nodes() const { return static_cast<int>(rest_positions.cols()); }
+  int num_elements() const { return static_cast<int>(elements.size()); }
+};
+
+struct ModelOptions {
+  unsigned terms = kSprings | kDampers | kRepulsion | kVolume;
+  double nonlinear_threshold = 0.0;
+  Vec3 gravity{Vec3::Zero()};
+  /// Material of each region label (index = label); every label used by the
+  /// mesh needs one.
+  std::vector<TissueMaterial> region_materials;
+  std::vector<KinematicGroup> groups;
+};
+
+/// Compiles a model: checks the mesh and materials, computes rest data and
+/// per-element constants, lumps masses. Throws msd::Error with context.
+Model build_model(const TetMesh& mesh, const ModelOptions& options);
+
+/// Mutable simulation state.
+struct State {
+  Points x;            ///< positions, 3 x N
+  Points v;            ///< velocities, 3 x N
+  double t = 0.0;      ///< time, s
+  long step = 0;       ///< steps taken
+  Points a;            ///< last acceleration (velocity Verlet's memory)
+  bool a_valid = false;
+};
+
+/// The rest state: x = rest positions, v = 0, t = 0.
+State rest_state(const Model& model);
+
+/// Prescribed motion of each kinematic group at the time being integrated to.
+struct Controls {
+  std::vector<Vec3> group_offset;
+  std::vector<Vec3> group_velocity;
+};
+
+/// Reused buffers and per-evaluation diagnostics.
+struct Scratch {
+  Points f;                        ///< internal force per node (no gravity)
+  long nonlinear_active = 0;       ///< elements whose non-linear terms ran
+};
+
+}  // namespace msd

@@ -1,0 +1,129 @@
+#include "msd/experiments/uniaxial.hpp"
+
+#include "msd/forces/element_forces.hpp"
+
+#include <cmath>
+
+namespace msd {
+
+PlatenContact parse_platen_contact(const std::string& name) {
+  if (name == "bonded") return PlatenContact::Bonded;
+  if (name == "frictionless") return PlatenContact::Frictionless;
+  throw Error("unknown platen contact '" + name + "' (expected bonded or frictionless)");
+}
+
+UniaxialSetup add_platens(const TetMesh& mesh, PlatenContact contact, ModelOptions& options) {
+  const double zmin = mesh.nodes.row(2).minCoeff(), zmax = mesh.nodes.row(2).maxCoeff();
+  const double tol = 1e-9 * (zmax - zmin);
+  KinematicGroup bottom{"bottom platen", {}, {true, true, true}};
+  KinematicGroup top{"top platen", {}, {true, true, true}};
+  if (contact == PlatenContact::Frictionless) {
+    bottom.axes[0] = bottom.axes[1] = false;
+    top.axes[0] = top.axes[1] = false;
+  }
+  std::vector<char> on_top(static_cast<size_t>(mesh.num_nodes()), 0);
+  for (int n = 0; n < mesh.num_nodes(); ++n) {
+    if (mesh.nodes(2, n) <= zmin + tol) bottom.nodes.push_back(n);
+    if (mesh.nodes(2, n) >= zmax - tol) {
+      top.nodes.push_back(n);
+      on_top[static_cast<size_t>(n)] = 1;
+    }
+  }
+  if (bottom.nodes.empty() || top.nodes.empty() || !(zmax > zmin))
+    throw Error("uni-axial test: the sample has no distinct top and bottom faces");
+  UniaxialSetup s;
+  s.length = zmax - zmin;
+  s.volume = total_volume(mesh.nodes, mesh.tets);
+  for (const Tri& f : boundary_faces(mesh.tets))
+    if (on_top[static_cast<size_t>(f[0])] && on_top[static_cast<size_t>(f[1])] &&
+        on_top[static_cast<size_t>(f[2])]) {
+      const Vec3 a = mesh.nodes.col(f[0]), b = mesh.nodes.col(f[1]), c = mesh.nodes.col(f[2]);
+      s.area += 0.5 * (b - a).cross(c - a).norm();
+    }
+  s.bottom_group = static_cast<int>(options.groups.size());
+  options.groups.push_back(bottom);
+  s.top_group = static_cast<int>(options.groups.size());
+  options.groups.push_back(top);
+  return s;
+}
+
+Controls uniaxial_controls(const Model& model, const UniaxialSetup& setup, const LoadingPath& path,
+                           double t) {
+  Controls c;
+  c.group_offset.assign(model.groups.size(), Vec3::Zero());
+  c.group_velocity.assign(model.groups.size(), Vec3::Zero());
+  c.group_offset[static_cast<size_t>(setup.top_group)] = Vec3(0, 0, path.value(t) * setup.length);
+  c.group_velocity[static_cast<size_t>(setup.top_group)] = Vec3(0, 0, path.rate(t) * setup.length);
+  return c;
+}
+
+UniaxialSample measure_uniaxial(const Model& model, const UniaxialSetup& setup, const State& state,
+                                Scratch& scratch) {
+  evaluate_forces(model, state, scratch);
+  const KinematicGroup& top = model.groups.at(static_cast<size_t>(setup.top_group));
+  const KinematicGroup& bottom = model.groups.at(static_cast<size_t>(setup.bottom_group));
+  Vec3 f = Vec3::Zero();
+  for (int n : top.nodes) f += scratch.f.col(n);
+  double ztop = 0.0, zbot = 0.0;
+  for (int n : top.nodes) ztop += state.x(2, n);
+  for (int n : bottom.nodes) zbot += state.x(2, n);
+  ztop /= static_cast<double>(top.nodes.size());
+  zbot /= static_cast<double>(bottom.nodes.size());
+  UniaxialSample s;
+  s.time = state.t;
+  s.strain = (ztop - zbot - setup.length) / setup.length;
+  s.nominal_stress = -f.z() / setup.area;
+  s.lateral_force = std::hypot(f.x(), f.y());
+  double v = 0.0;
+  int inverted = 0;
+  for (const Element& el : model.elements) {
+    const double ve = tet_signed_volume(state.x, el.nodes);
+    v += ve;
+    inverted += ve <= 0.0;
+  }
+  s.volume_ratio = v / setup.volume;
+  s.inverted_elements = inverted;
+  s.kinetic_energy = kinetic_energy(model, state.v);
+  s.nonlinear_active = scratch.nonlinear_active;
+  return s;
+}
+
+RunStats run_uniaxial(const Model& model, const UniaxialSetup& setup, const LoadingPath& path,
+                      const TimeSteppingOptions& opt,
+                      const std::function<bool(const UniaxialSample&, const State&)>& on_sample) {
+  if (!(opt.dt > 0.0) || !std::isfinite(opt.dt)) throw Error("time step dt must be positive");
+  if (!(opt.output_interval > 0.0)) throw Error("output interval must be positive");
+  State state = rest_state(model);
+  Scratch scratch;
+  apply_constraints(model, uniaxial_controls(model, setup, path, 0.0), state);
+  RunStats stats;
+  const double end = path.end_time();
+  const long total_steps = static_cast<long>(std::ceil(end / opt.dt - 1e-9));
+  const double limit = opt.blowup_factor * setup.length;
+  double next_output = 0.0;
+  long output_index = 0;
+  for (long k = 0;; ++k) {
+    const double t = k * opt.dt;
+    state.t = t;  // avoid drift from repeated addition
+    if (t >= next_output - 1e-12 * opt.dt || k == total_steps) {
+      // Blow-up guard: a node far from rest means the run has diverged.
+      Eigen::Index worst = 0;
+      const double d = (state.x - model.rest_positions).colwise().norm().maxCoeff(&worst);
+      if (d > limit)
+        throw SimulationFailure("blow-up: a node moved " + std::to_string(d) + " m from rest (" +
+                                    std::to_string(opt.blowup_factor) + " sample lengths)",
+                                t, state.step, -1, static_cast<int>(worst));
+      if (!on_sample(measure_uniaxial(model, setup, state, scratch), state)) break;
+      ++output_index;
+      next_output = output_index * opt.output_interval;
+    }
+    if (k == total_steps) break;
+    step(model, state, uniaxial_controls(model, setup, path, (k + 1) * opt.dt), opt.dt,
+         opt.integrator, scratch);
+    ++stats.steps;
+  }
+  stats.simulated_seconds = state.t;
+  return stats;
+}
+
+}  // namespace msd

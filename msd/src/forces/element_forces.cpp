@@ -1,0 +1,88 @@
+#include "msd/forces/element_forces.hpp"
+
+#include "msd/forces/edge_dampers.hpp"
+#include "msd/forces/edge_springs.hpp"
+#include "msd/forces/face_repulsion.hpp"
+#include "msd/forces/volume_preservation.hpp"
+
+#include <algorithm>
+
+namespace msd {
+
+namespace {
+
+// Forces of one element; returns whether its non-linear terms ran.
+inline bool one_element(const Model& model, const Element& el, const Vec3 x[4], const Vec3 v[4],
+                        Vec3 f[4]) {
+  const unsigned terms = model.terms;
+  if (terms & (kSprings | kDampers)) {
+    const EdgeFrame edges = edge_frame(x);
+    if (terms & kSprings) add_edge_springs(edges, el.rest_length, el.k.k_s, f);
+    if (terms & kDampers) add_edge_dampers(edges, v, el.k.k_d, f);
+  }
+  if (!(terms & (kRepulsion | kVolume))) return false;
+  const TetFrame g = tet_frame(x);
+  if (model.nonlinear_threshold > 0.0) {
+    double ratio = g.height[0] / el.rest_height[0];
+    for (int i = 1; i < 4; ++i) ratio = std::min(ratio, g.height[i] / el.rest_height[i]);
+    if (ratio >= model.nonlinear_threshold) return false;
+  }
+  // Both terms push along the same face normal with the same equalising
+  // weights, so their magnitudes are summed before the forces are applied.
+  double mag[4];
+  for (int i = 0; i < 4; ++i) {
+    mag[i] = 0.0;
+    if (terms & kRepulsion)
+      mag[i] += face_repulsion_magnitude(g.height[i], el.rest_height[i], el.k.k_r[i], el.floor);
+    if (terms & kVolume) mag[i] += volume_force_magnitude(g, i, el.rest_volume, el.k.k_v[i]);
+  }
+  add_balanced_normal_forces(g, mag, f);
+  return true;
+}
+
+}  // namespace
+
+long compute_internal_forces(const Model& model, const Points& x, const Points& v, Points& f) {
+  f.setZero(3, x.cols());
+  long active = 0;
+  for (const Element& el : model.elements) {
+    Vec3 xe[4], ve[4], fe[4];
+    for (int i = 0; i < 4; ++i) {
+      xe[i] = x.col(el.nodes[i]);
+      ve[i] = v.col(el.nodes[i]);
+      fe[i].setZero();
+    }
+    active += one_element(model, el, xe, ve, fe);
+    for (int i = 0; i < 4; ++i) f.col(el.nodes[i]) += fe[i];
+  }
+  return active;
+}
+
+void element_forces(const Model& model, int e, const Points& x, const Points& v, Vec3 f[4]) {
+  const Element& el = model.elements.at(static_cast<size_t>(e));
+  Vec3 xe[4], ve[4];
+  for (int i = 0; i < 4; ++i) {
+    xe[i] = x.col(el.nodes[i]);
+    ve[i] = v.col(el.nodes[i]);
+    f[i].setZero();
+  }
+  one_element(model, el, xe, ve, f);
+}
+
+double conservative_energy(const Model& model, const Points& x) {
+  double u = 0.0;
+  for (const Element& el : model.elements) {
+    Vec3 xe[4];
+    for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[i]);
+    if (model.terms & kSprings) u += edge_spring_energy(xe, el.rest_length, el.k.k_s);
+    if (model.terms & kRepulsion)
+      u += face_repulsion_energy(tet_frame(xe), el.rest_height, el.k.k_r, el.floor);
+  }
+  return u;
+}
+
+double kinetic_energy(const Model& model, const Points& v) {
+  return 0.5 * (v.colwise().squaredNorm().transpose().cwiseProduct(model.mass)).sum();
+}
+
+}  // namespace msd

@@ -1,0 +1,218 @@
+#include "msd/geometry/triangle_mesh.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <sstream>
+#include <utility>
+
+namespace msd {
+
+Aabb bounding_box(const TriangleMesh& mesh) {
+  if (mesh.vertices.cols() == 0) throw Error("bounding_box: the surface has no vertices");
+  Aabb box;
+  box.lo = mesh.vertices.rowwise().minCoeff();
+  box.hi = mesh.vertices.rowwise().maxCoeff();
+  return box;
+}
+
+double enclosed_volume(const TriangleMesh& mesh) {
+  double six_v = 0.0;
+  for (const Tri& t : mesh.triangles) {
+    const Vec3 a = mesh.vertices.col(t[0]);
+    const Vec3 b = mesh.vertices.col(t[1]);
+    const Vec3 c = mesh.vertices.col(t[2]);
+    six_v += a.dot(b.cross(c));
+  }
+  return six_v / 6.0;
+}
+
+TriangleMesh make_cylinder(double radius, double height, int segments) {
+  if (!(radius > 0.0) || !(height > 0.0) || !std::isfinite(radius) || !std::isfinite(height))
+    throw Error("cylinder: radius and height must be positive and finite (got radius " +
+                std::to_string(radius) + ", height " + std::to_string(height) + ")");
+  if (segments < 3) throw Error("cylinder: segments must be at least 3");
+  TriangleMesh m;
+  const int n = segments;
+  m.vertices.resize(3, 2 * n + 2);
+  const double pi = std::acos(-1.0);
+  for (int i = 0; i < n; ++i) {
+    const double phi = 2.0 * pi * i / n;
+    // Exact values on the axes keep the shape symmetric under grid alignment.
+    double c = std::cos(phi), s = std::sin(phi);
+    if (4 * i == n || 4 * i == 3 * n) c = 0.0;
+    if (2 * i == n) s = 0.0;
+    m.vertices.col(i) = Vec3(radius * c, radius * s, 0.0);
+    m.vertices.col(n + i) = Vec3(radius * c, radius * s, height);
+  }
+  const int bottom = 2 * n, top = 2 * n + 1;
+  m.vertices.col(bottom) = Vec3(0, 0, 0);
+  m.vertices.col(top) = Vec3(0, 0, height);
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    m.triangles.push_back({i, j, n + j});
+    m.triangles.push_back({i, n + j, n + i});
+    m.triangles.push_back({bottom, j, i});
+    m.triangles.push_back({top, n + i, n + j});
+  }
+  return m;
+}
+
+TriangleMesh make_box(const Vec3& lo, const Vec3& hi) {
+  if (!lo.allFinite() || !hi.allFinite() || !((hi - lo).array() > 0.0).all())
+    throw Error("box: need finite corners with hi > lo in every coordinate");
+  TriangleMesh m;
+  m.vertices.resize(3, 8);
+  for (int k = 0; k < 8; ++k)
+    m.vertices.col(k) = Vec3((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(),
+                             (k & 4) ? hi.z() : lo.z());
+  // Each face as a quad listed counter-clockwise from outside.
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : quads) {
+    m.triangles.push_back({q[0], q[1], q[2]});
+    m.triangles.push_back({q[0], q[2], q[3]});
+  }
+  return m;
+}
+
+namespace {
+
+std::string where(const std::string& path, int line) {
+  return path + ":" + std::to_string(line) + ": ";
+}
+
+}  // namespace
+
+TriangleMesh read_obj(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot open OBJ file");
+  TriangleMesh m;
+  std::vector<Vec3> verts;
+  std::string line;
+  int lineno = 0;
+  while (std::getline(in, line)) {
+    ++lineno;
+    std::istringstream ls(line);
+    std::string tag;
+    if (!(ls >> tag) || tag[0] == '#') continue;
+    if (tag == "v") {
+      Vec3 p;
+      if (!(ls >> p.x() >> p.y() >> p.z()))
+        throw Error(where(path, lineno) + "vertex record needs three numbers");
+      if (!p.allFinite()) throw Error(where(path, lineno) + "vertex coordinate is not finite");
+      verts.push_back(p);
+    } else if (tag == "f") {
+      std::vector<int> idx;
+      std::string tok;
+      while (ls >> tok) {
+        const std::string first = tok.substr(0, tok.find('/'));
+        int k = 0;
+        try {
+          size_t used = 0;
+          k = std::stoi(first, &used);
+          if (used != first.size()) throw std::invalid_argument(first);
+        } catch (const std::exception&) {
+          throw Error(where(path, lineno) + "face index '" + tok + "' is not an integer");
+        }
+        if (k < 0) k = static_cast<int>(verts.size()) + 1 + k;  // relative index
+        if (k < 1 || k > static_cast<int>(verts.size()))
+          throw Error(where(path, lineno) + "face refers to vertex " + first + " but only " +
+                      std::to_string(verts.size()) + " vertices are defined so far");
+        idx.push_back(k - 1);
+      }
+      if (idx.size() < 3) throw Error(where(path, lineno) + "face needs at least three vertices");
+      for (size_t i = 1; i + 1 < idx.size(); ++i) m.triangles.push_back({idx[0], idx[i], idx[i + 1]});
+    }
+  }
+  if (verts.empty()) throw Error(path + ": OBJ file has no vertices");
+  if (m.triangles.empty()) throw Error(path + ": OBJ file has no faces");
+  m.vertices.resize(3, static_cast<Eigen::Index>(verts.size()));
+  for (size_t i = 0; i < verts.size(); ++i) m.vertices.col(static_cast<Eigen::Index>(i)) = verts[i];
+  return m;
+}
+
+void write_obj(const std::string& path, const TriangleMesh& mesh) {
+  std::ofstream out(path);
+  if (!out) throw Error(path + ": cannot write OBJ file");
+  out << std::setprecision(17);
+  for (int i = 0; i < mesh.num_vertices(); ++i)
+    out << "v " << mesh.vertices(0, i) << ' ' << mesh.vertices(1, i) << ' ' << mesh.vertices(2, i)
+        << '\n';
+  for (const Tri& t : mesh.triangles) out << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+  if (!out) throw Error(path + ": write failed");
+}
+
+void validate_closed_surface(const TriangleMesh& mesh, const std::string& name) {
+  const int nv = mesh.num_vertices();
+  if (nv == 0 || mesh.triangles.empty()) throw Error(name + ": the surface is empty");
+  if (!mesh.vertices.allFinite()) throw Error(name + ": a vertex coordinate is not finite");
+  const Aabb box = bounding_box(mesh);
+  const double scale = (box.hi - box.lo).norm();
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Tri& tri = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k)
+      if (tri[k] < 0 || tri[k] >= nv)
+        throw Error(name + ": triangle " + std::to_string(t) + " refers to vertex " +
+                    std::to_string(tri[k]) + " (the surface has " + std::to_string(nv) + ")");
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2])
+      throw Error(name + ": triangle " + std::to_string(t) + " repeats a vertex");
+    const Vec3 a = mesh.vertices.col(tri[0]), b = mesh.vertices.col(tri[1]),
+               c = mesh.vertices.col(tri[2]);
+    if ((b - a).cross(c - a).norm() <= 1e-14 * scale * scale)
+      throw Error(name + ": triangle " + std::to_string(t) + " is degenerate (zero area)");
+  }
+  // Directed edges: each must appear exactly once, and its reverse exactly once.
+  std::map<std::pair<int, int>, int> directed;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Tri& tri = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      const std::pair<int, int> e{tri[k], tri[(k + 1) % 3]};
+      auto [it, fresh] = directed.emplace(e, static_cast<int>(t));
+      if (!fresh) {
+        // Same directed edge twice: either three or more triangles meet here, or
+        // two neighbours disagree on orientation.
+        const auto rev = directed.find({e.second, e.first});
+        const bool many = rev != directed.end();
+        throw Error(name + (many ? ": edge (" : ": inconsistent orientation at edge (") +
+                    std::to_string(e.first) + ", " + std::to_string(e.second) + ") " +
+                    (many ? "is shared by more than two triangles (non-manifold)"
+                          : "between triangles " + std::to_string(it->second) + " and " +
+                                std::to_string(t) + " (they list it in the same direction)"));
+      }
+    }
+  }
+  for (const auto& [e, t] : directed) {
+    if (!directed.count({e.second, e.first}))
+      throw Error(name + ": the surface is open: edge (" + std::to_string(e.first) + ", " +
+                  std::to_string(e.second) + ") of triangle " + std::to_string(t) +
+                  " has no neighbour");
+  }
+  // Vertex manifoldness: the triangles around each vertex form one cycle.
+  std::vector<std::vector<std::pair<int, int>>> fan(static_cast<size_t>(nv));
+  for (const Tri& tri : mesh.triangles)
+    for (int k = 0; k < 3; ++k) fan[tri[k]].push_back({tri[(k + 1) % 3], tri[(k + 2) % 3]});
+  for (int v = 0; v < nv; ++v) {
+    const auto& f = fan[v];
+    if (f.empty()) continue;  // unreferenced vertices are harmless
+    std::map<int, int> next;
+    for (const auto& [a, b] : f) next[a] = b;
+    int steps = 0, cur = f.front().first;
+    do {
+      cur = next.at(cur);
+      ++steps;
+    } while (cur != f.front().first && steps <= static_cast<int>(f.size()));
+    if (steps != static_cast<int>(f.size()))
+      throw Error(name + ": vertex " + std::to_string(v) +
+                  " is non-manifold (its triangles form more than one fan)");
+  }
+  const double vol = enclosed_volume(mesh);
+  if (!(vol > 0.0))
+    throw Error(name + (vol < 0.0 ? ": triangles face inwards (negative enclosed volume); reverse "
+                                    "their orientation"
+                                  : ": encloses no volume"));
+}
+
+}  // namespace msd

@@ -1,0 +1,131 @@
+#include "msd/integrate/step.hpp"
+
+#include "msd/forces/element_forces.hpp"
+
+#include <cmath>
+
+namespace msd {
+
+Integrator parse_integrator(const std::string& name) {
+  if (name == "explicit_euler") return Integrator::ExplicitEuler;
+  if (name == "symplectic_euler" || name == "semi_implicit_euler") return Integrator::SymplecticEuler;
+  if (name == "velocity_verlet") return Integrator::VelocityVerlet;
+  throw Error("unknown integrator '" + name +
+              "' (expected explicit_euler, symplectic_euler or velocity_verlet)");
+}
+
+std::string to_string(Integrator integrator) {
+  switch (integrator) {
+    case Integrator::ExplicitEuler: return "explicit_euler";
+    case Integrator::SymplecticEuler: return "symplectic_euler";
+    case Integrator::VelocityVerlet: return "velocity_verlet";
+  }
+  return "?";
+}
+
+namespace {
+
+std::string describe(const std::string& reason, double time, long step, int element, int node) {
+  std::string s = reason + " at t = " + std::to_string(time) + " s (step " + std::to_string(step) + ")";
+  if (element >= 0) s += ", element " + std::to_string(element);
+  if (node >= 0) s += ", node " + std::to_string(node);
+  return s;
+}
+
+[[noreturn]] void fail_non_finite_force(const Model& model, const State& state) {
+  // Find the first element whose own forces are not finite.
+  for (int e = 0; e < model.num_elements(); ++e) {
+    Vec3 fe[4];
+    element_forces(model, e, state.x, state.v, fe);
+    for (int i = 0; i < 4; ++i)
+      if (!fe[i].allFinite())
+        throw SimulationFailure("non-finite element force", state.t, state.step, e,
+                                model.elements[static_cast<size_t>(e)].nodes[i]);
+  }
+  throw SimulationFailure("non-finite force", state.t, state.step, -1, -1);
+}
+
+void check_state(const Model& model, const State& state) {
+  if (state.x.allFinite() && state.v.allFinite()) return;
+  for (int n = 0; n < state.x.cols(); ++n)
+    if (!state.x.col(n).allFinite() || !state.v.col(n).allFinite()) {
+      int element = -1;
+      for (int e = 0; e < model.num_elements() && element < 0; ++e)
+        for (int i = 0; i < 4; ++i)
+          if (model.elements[static_cast<size_t>(e)].nodes[i] == n) element = e;
+      throw SimulationFailure("non-finite position or velocity", state.t, state.step, element, n);
+    }
+}
+
+}  // namespace
+
+SimulationFailure::SimulationFailure(const std::string& why, double t, long s, int e, int n)
+    : Error(describe(why, t, s, e, n)), time(t), step(s), element(e), node(n), reason(why) {}
+
+void apply_constraints(const Model& model, const Controls& controls, State& state) {
+  for (size_t g = 0; g < model.groups.size(); ++g) {
+    const KinematicGroup& grp = model.groups[g];
+    const Vec3& off = controls.group_offset.at(g);
+    const Vec3& vel = controls.group_velocity.at(g);
+    for (int n : grp.nodes)
+      for (int a = 0; a < 3; ++a)
+        if (grp.axes[a]) {
+          state.x(a, n) = model.rest_positions(a, n) + off[a];
+          state.v(a, n) = vel[a];
+        }
+  }
+}
+
+void accelerations(const Model& model, const Scratch& scratch, Points& a) {
+  a = scratch.f * model.inv_mass.asDiagonal();
+  if (model.terms & kGravity) a.colwise() += model.gravity;
+}
+
+void evaluate_forces(const Model& model, const State& state, Scratch& scratch) {
+  scratch.nonlinear_active = compute_internal_forces(model, state.x, state.v, scratch.f);
+  if (!scratch.f.allFinite()) fail_non_finite_force(model, state);
+}
+
+void step(const Model& model, State& state, const Controls& controls, double dt,
+          Integrator integrator, Scratch& scratch) {
+  if (state.x.cols() != model.num_nodes() || state.v.cols() != model.num_nodes())
+    throw Error("step: state has " + std::to_string(state.x.cols()) + " nodes, model " +
+                std::to_string(model.num_nodes()));
+  switch (integrator) {
+    case Integrator::ExplicitEuler: {
+      evaluate_forces(model, state, scratch);
+      accelerations(model, scratch, state.a);
+      state.x += dt * state.v;
+      state.v += dt * state.a;
+      break;
+    }
+    case Integrator::SymplecticEuler: {
+      evaluate_forces(model, state, scratch);
+      accelerations(model, scratch, state.a);
+      state.v += dt * state.a;
+      state.x += dt * state.v;
+      break;
+    }
+    case Integrator::VelocityVerlet: {
+      if (!state.a_valid) {
+        evaluate_forces(model, state, scratch);
+        accelerations(model, scratch, state.a);
+      }
+      state.v += 0.5 * dt * state.a;
+      state.x += dt * state.v;
+      apply_constraints(model, controls, state);
+      evaluate_forces(model, state, scratch);
+      accelerations(model, scratch, state.a);
+      state.v += 0.5 * dt * state.a;
+      state.a_valid = true;
+      break;
+    }
+  }
+  if (integrator != Integrator::VelocityVerlet) state.a_valid = false;
+  state.t += dt;
+  ++state.step;
+  apply_constraints(model, controls, state);
+  check_state(model, state);
+}
+
+}  // namespace msd

@@ -1,0 +1,68 @@
+#include "msd/material/tissue_material.hpp"
+
+#include <cmath>
+
+namespace msd {
+
+namespace {
+
+void require(bool ok, const std::string& where, const std::string& field, const std::string& rule,
+             double value) {
+  if (!ok)
+    throw Error(where + ": " + field + " must be " + rule + " (got " + std::to_string(value) + ")");
+}
+
+}  // namespace
+
+void check_material(const TissueMaterial& m, const std::string& where) {
+  auto finite_nonneg = [&](double v, const char* f) {
+    require(std::isfinite(v) && v >= 0.0, where, f, "finite and >= 0", v);
+  };
+  require(std::isfinite(m.density) && m.density > 0.0, where, "density", "positive (kg/m^3)",
+          m.density);
+  require(std::isfinite(m.repulsion_floor) && m.repulsion_floor > 0.0 && m.repulsion_floor < 1.0,
+          where, "repulsion_floor", "in (0, 1)", m.repulsion_floor);
+  if (m.mode == ConstantsMode::Raw) {
+    require(std::isfinite(m.k_s) && m.k_s > 0.0, where, "k_s", "positive (N/m)", m.k_s);
+    finite_nonneg(m.k_d, "k_d");
+    finite_nonneg(m.k_r, "k_r");
+    finite_nonneg(m.k_v, "k_v");
+  } else {
+    require(std::isfinite(m.youngs_modulus) && m.youngs_modulus > 0.0, where, "youngs_modulus",
+            "positive (Pa)", m.youngs_modulus);
+    require(std::isfinite(m.stiffness_scale) && m.stiffness_scale > 0.0, where, "stiffness_scale",
+            "positive", m.stiffness_scale);
+    finite_nonneg(m.damping_time, "damping_time");
+    finite_nonneg(m.repulsion_factor, "repulsion_factor");
+    finite_nonneg(m.volume_factor, "volume_factor");
+  }
+}
+
+ElementConstants element_constants(const TissueMaterial& m, double rest_volume,
+                                   const double rest_length[6], const double rest_height[4]) {
+  ElementConstants c{};
+  if (m.mode == ConstantsMode::Raw) {
+    for (int e = 0; e < 6; ++e) {
+      c.k_s[e] = m.k_s;
+      c.k_d[e] = m.k_d;
+    }
+    for (int i = 0; i < 4; ++i) {
+      c.k_r[i] = m.k_r;
+      c.k_v[i] = m.k_v;
+    }
+    return c;
+  }
+  const double ev = kLatticeStiffnessFactor * m.stiffness_scale * m.youngs_modulus * rest_volume;
+  for (int e = 0; e < 6; ++e) {
+    c.k_s[e] = ev / (rest_length[e] * rest_length[e]);
+    c.k_d[e] = m.damping_time * c.k_s[e];
+  }
+  for (int i = 0; i < 4; ++i) {
+    const double ref = ev / (rest_height[i] * rest_height[i]);
+    c.k_r[i] = m.repulsion_factor * ref;
+    c.k_v[i] = m.volume_factor * ref;
+  }
+  return c;
+}
+
+}  // namespace msd

@@ -1,0 +1,111 @@
+#include "msd/model/model.hpp"
+
+#include "msd/forces/tet_frame.hpp"
+
+#include <algorithm>
+
+namespace msd {
+
+ForceTerm parse_force_term(const std::string& name) {
+  if (name == "springs") return kSprings;
+  if (name == "dampers") return kDampers;
+  if (name == "repulsion") return kRepulsion;
+  if (name == "volume") return kVolume;
+  if (name == "gravity") return kGravity;
+  throw Error("unknown force term '" + name +
+              "' (expected springs, dampers, repulsion, volume or gravity)");
+}
+
+std::string force_terms_to_string(unsigned terms) {
+  std::string s;
+  const char* names[] = {"springs", "dampers", "repulsion", "volume", "gravity"};
+  for (int b = 0; b < 5; ++b)
+    if (terms & (1u << b)) s += (s.empty() ? "" : ",") + std::string(names[b]);
+  return s;
+}
+
+Model build_model(const TetMesh& mesh, const ModelOptions& options) {
+  check_tet_mesh(mesh, "model mesh");
+  Model model;
+  model.rest_positions = mesh.nodes;
+  model.terms = options.terms;
+  model.nonlinear_threshold = options.nonlinear_threshold;
+  model.gravity = options.gravity;
+  model.region_materials = options.region_materials;
+  if (!(options.nonlinear_threshold >= 0.0 && options.nonlinear_threshold <= 1.0))
+    throw Error("nonlinear_threshold must be in [0, 1] (0 = terms always on)");
+  if (!options.gravity.allFinite()) throw Error("gravity is not finite");
+  for (size_t r = 0; r < options.region_materials.size(); ++r)
+    check_material(options.region_materials[r], "material of region " + std::to_string(r));
+
+  const int n = mesh.num_nodes();
+  model.mass = Eigen::VectorXd::Zero(n);
+  // Equal-per-node lumping needs each region's total mass and node count first.
+  std::vector<double> region_mass(options.region_materials.size(), 0.0);
+  std::vector<std::vector<char>> region_nodes(options.region_materials.size());
+
+  model.elements.reserve(mesh.tets.size());
+  for (size_t e = 0; e < mesh.tets.size(); ++e) {
+    const int r = mesh.region[e];
+    if (r < 0 || r >= static_cast<int>(options.region_materials.size()))
+      throw Error("tet " + std::to_string(e) + " has region " + std::to_string(r) +
+                  " but no material is given for it");
+    const TissueMaterial& mat = options.region_materials[static_cast<size_t>(r)];
+    Element el;
+    el.nodes = mesh.tets[e];
+    el.region = r;
+    Vec3 x[4];
+    for (int i = 0; i < 4; ++i) x[i] = mesh.nodes.col(el.nodes[i]);
+    const TetFrame g = tet_frame(x);
+    el.rest_volume = g.volume;
+    for (int i = 0; i < 4; ++i) el.rest_height[i] = g.height[i];
+    for (int k = 0; k < 6; ++k) el.rest_length[k] = (x[kTetEdges[k][1]] - x[kTetEdges[k][0]]).norm();
+    el.floor = mat.repulsion_floor;
+    el.k = element_constants(mat, el.rest_volume, el.rest_length, el.rest_height);
+    const double m = mat.density * el.rest_volume;
+    if (mat.lumping == MassLumping::PerTet) {
+      for (int i = 0; i < 4; ++i) model.mass[el.nodes[i]] += 0.25 * m;
+    } else {
+      region_mass[static_cast<size_t>(r)] += m;
+      auto& flags = region_nodes[static_cast<size_t>(r)];
+      if (flags.empty()) flags.assign(static_cast<size_t>(n), 0);
+      for (int i = 0; i < 4; ++i) flags[static_cast<size_t>(el.nodes[i])] = 1;
+    }
+    model.elements.push_back(el);
+  }
+  for (size_t r = 0; r < region_nodes.size(); ++r) {
+    if (region_nodes[r].empty()) continue;
+    const long count = std::count(region_nodes[r].begin(), region_nodes[r].end(), 1);
+    for (int i = 0; i < n; ++i)
+      if (region_nodes[r][static_cast<size_t>(i)]) model.mass[i] += region_mass[r] / static_cast<double>(count);
+  }
+  for (int i = 0; i < n; ++i)
+    if (!(model.mass[i] > 0.0)) throw Error("node " + std::to_string(i) + " belongs to no tet (zero mass)");
+  model.inv_mass = model.mass.cwiseInverse();
+
+  std::vector<int> owner(static_cast<size_t>(n), -1);
+  for (size_t g = 0; g < options.groups.size(); ++g) {
+    for (int node : options.groups[g].nodes) {
+      if (node < 0 || node >= n)
+        throw Error("kinematic group '" + options.groups[g].name + "' refers to node " +
+                    std::to_string(node) + " of " + std::to_string(n));
+      if (owner[static_cast<size_t>(node)] >= 0)
+        throw Error("node " + std::to_string(node) + " is in kinematic groups '" +
+                    options.groups[static_cast<size_t>(owner[static_cast<size_t>(node)])].name +
+                    "' and '" + options.groups[g].name + "'");
+      owner[static_cast<size_t>(node)] = static_cast<int>(g);
+    }
+  }
+  model.groups = options.groups;
+  return model;
+}
+
+State rest_state(const Model& model) {
+  State s;
+  s.x = model.rest_positions;
+  s.v = Points::Zero(3, model.num_nodes());
+  s.a = Points::Zero(3, model.num_nodes());
+  return s;
+}
+
+}  // namespace msd

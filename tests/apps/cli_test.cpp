@@ -1,0 +1,96 @@
+// The tissuebench program from the outside: help, exit codes, messages, and
+// that bad input leaves nothing behind.
+#include "bench/results_file.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+namespace {
+
+struct Result {
+  int code;
+  std::string output;
+};
+
+Result sh(const std::string& args) {
+  const std::string cmd = std::string(TISSUEBENCH_BINARY) + " " + args + " 2>&1";
+  std::unique_ptr<FILE, int (*)(FILE*)> p(popen(cmd.c_str(), "r"), pclose);
+  std::string out;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, p.get())) out.append(buf, n);
+  const int status = pclose(p.release());
+  return {WEXITSTATUS(status), out};
+}
+
+const char* kSpec = R"(name: cli
+geometry: {shape: box, size: [0.02, 0.02, 0.04]}
+mesh: {spacing: 0.01}
+material: {density: 1000, youngs_modulus: 5000, damping_time: 0.002}
+msd: {constants: physical, dt: 1.0e-4}
+loading: {type: uniaxial, path: [[0, 0], [0.1, 0.05]]}
+)";
+
+}  // namespace
+
+TEST(Cli, HelpListsSubcommands) {
+  const Result r = sh("--help");
+  EXPECT_EQ(r.code, 0);
+  for (const char* s : {"run", "suite", "inspect"}) EXPECT_NE(r.output.find(s), std::string::npos) << s;
+  EXPECT_EQ(sh("run --help").code, 0);
+  EXPECT_NE(sh("").code, 0);
+  EXPECT_NE(sh("frobnicate").code, 0);
+}
+
+TEST(Cli, RunWritesResults) {
+  testing_support::TempDir dir("cli");
+  std::ofstream(dir.file("s.yaml")) << kSpec;
+  const Result r = sh("run " + dir.file("s.yaml") + " --out " + dir.file("o.h5") + " --solver msd");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("complete"), std::string::npos) << r.output;
+  EXPECT_EQ(bench::read_results(dir.file("o.h5")).status(), "complete");
+}
+
+TEST(Cli, BadSpecGivesOneClearMessageExitTwoAndNoFile) {
+  testing_support::TempDir dir("cli");
+  std::string text = kSpec;
+  text.replace(text.find("density: 1000"), 13, "densty: 1000");
+  std::ofstream(dir.file("bad.yaml")) << text;
+  const Result r = sh("run " + dir.file("bad.yaml") + " --out " + dir.file("o.h5"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("bad.yaml:4:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("material.densty: unknown field"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("o.h5")));
+  EXPECT_FALSE(std::filesystem::exists(dir.file("o.csv")));
+}
+
+TEST(Cli, UnknownSolverAndMissingSpecAreErrors) {
+  testing_support::TempDir dir("cli");
+  std::ofstream(dir.file("s.yaml")) << kSpec;
+  EXPECT_EQ(sh("run " + dir.file("s.yaml") + " --out " + dir.file("o.h5") + " --solver abaqus").code, 2);
+  EXPECT_EQ(sh("run " + dir.file("missing.yaml") + " --out " + dir.file("o.h5")).code, 2);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("o.h5")));
+}
+
+TEST(Cli, BlowUpExitsOneAndKeepsTheFile) {
+  testing_support::TempDir dir("cli");
+  std::string text = kSpec;
+  text.replace(text.find("dt: 1.0e-4"), 10, "dt: 2.0e-2");
+  text.replace(text.find("[0.1, 0.05]"), 11, "[2.0, 0.05]");
+  text += "output: {interval: 0.04}\n";
+  std::ofstream(dir.file("s.yaml")) << text;
+  const Result r = sh("run " + dir.file("s.yaml") + " --out " + dir.file("o.h5"));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("failed"), std::string::npos) << r.output;
+  EXPECT_EQ(bench::read_results(dir.file("o.h5")).status(), "failed");
+}
+
+TEST(Cli, InspectPrintsCounts) {
+  const Result r = sh(std::string("inspect ") + TISSUEBENCH_SPECS_DIR + "/uniaxial_thesis_full.yaml");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("24 cubes, 120 tets, 63 nodes"), std::string::npos) << r.output;
+}

@@ -1,0 +1,78 @@
+#include "bench/msd_runner.hpp"
+
+#include "bench/results_file.hpp"
+#include "msd/core/types.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+namespace {
+
+const char* kSpec = R"(name: small
+geometry: {shape: box, size: [0.02, 0.02, 0.04]}
+mesh: {spacing: 0.01}
+material: {density: 1000, youngs_modulus: 5000, damping_time: 0.002}
+msd: {constants: physical, repulsion_factor: 0.1, volume_factor: 0.5, dt: 1.0e-4}
+loading: {type: uniaxial, path: [[0, 0], [0.2, -0.1], [0.4, 0.1]]}
+output: {interval: 0.02}
+)";
+
+}  // namespace
+
+TEST(MsdRunner, WritesACompleteResultsFile) {
+  testing_support::TempDir dir("runner");
+  const bench::Spec spec = bench::parse_spec(kSpec, "small.yaml");
+  const bench::RunSummary s = bench::run_msd(spec, dir.file("sub/small.h5"));
+  ASSERT_TRUE(s.complete) << s.failure;
+  EXPECT_EQ(s.tets, 5 * 16);
+  const bench::Results r = bench::read_results(dir.file("sub/small.h5"));
+  EXPECT_EQ(r.status(), "complete");
+  for (const char* k : {"time", "strain", "nominal_stress", "volume_ratio", "inverted_elements"})
+    ASSERT_EQ(r.series.at(k).size(), 21u) << k;
+  EXPECT_NEAR(r.series.at("strain").back(), 0.1, 1e-12);
+  EXPECT_GT(r.series.at("nominal_stress").back(), 0.0);
+  EXPECT_DOUBLE_EQ(r.material.at("youngs_modulus"), 5000);
+  EXPECT_DOUBLE_EQ(r.material.at("lattice_factor"), 5.0 / 6.0);
+  EXPECT_GT(r.material.at("k_s_max"), 0.0);
+  EXPECT_EQ(r.meta.at("integrator"), "symplectic_euler");
+  EXPECT_DOUBLE_EQ(r.timing.at("steps"), 4000);
+  EXPECT_TRUE(std::filesystem::exists(dir.file("sub/small.csv")));
+}
+
+TEST(MsdRunner, BlowUpLeavesAFailedFileWithTheRowsSoFar) {
+  testing_support::TempDir dir("runner");
+  std::string text = kSpec;
+  text.replace(text.find("dt: 1.0e-4"), 10, "dt: 1.0e-2");
+  const bench::Spec spec = bench::parse_spec(text, "small.yaml");
+  const bench::RunSummary s = bench::run_msd(spec, dir.file("b.h5"));
+  EXPECT_FALSE(s.complete);
+  EXPECT_NE(s.failure.find("t = "), std::string::npos) << s.failure;
+  const bench::Results r = bench::read_results(dir.file("b.h5"));
+  EXPECT_EQ(r.status(), "failed");
+  EXPECT_EQ(r.meta.at("failure"), s.failure);
+  EXPECT_GE(r.series.at("time").size(), 1u);
+}
+
+TEST(MsdRunner, BadInputWritesNothing) {
+  testing_support::TempDir dir("runner");
+  std::string text = kSpec;
+  text.replace(text.find("spacing: 0.01"), 13, "spacing: 0.5");  // larger than the box: no cube
+  text.replace(text.find("mesh: {"), 7, "mesh: {rule: inside, ");
+  const bench::Spec spec = bench::parse_spec(text, "small.yaml");
+  EXPECT_THROW(bench::run_msd(spec, dir.file("x.h5")), msd::Error);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("x.h5")));
+  EXPECT_FALSE(std::filesystem::exists(dir.file("x.csv")));
+}
+
+TEST(MsdRunner, ObjGeometry) {
+  testing_support::TempDir dir("runner");
+  msd::write_obj(dir.file("c.obj"), msd::make_cylinder(0.02, 0.04, 24));
+  std::string text = kSpec;
+  const std::string box = "{shape: box, size: [0.02, 0.02, 0.04]}";
+  text.replace(text.find(box), box.size(), "{shape: obj, file: c.obj}");
+  const bench::Spec spec = bench::parse_spec(text, dir.file("spec.yaml"));
+  const msd::SampleMesh m = bench::make_sample_mesh(spec);
+  EXPECT_GT(m.cubes, 0);
+}

@@ -1,0 +1,108 @@
+#include "bench/spec.hpp"
+
+#include "msd/core/types.hpp"
+
+#include <gtest/gtest.h>
+
+namespace {
+
+const char* kGood = R"(name: t
+geometry: {shape: box, size: [0.02, 0.02, 0.04]}
+mesh: {spacing: 0.01}
+material: {density: 1000, youngs_modulus: 5000}
+msd: {constants: physical, dt: 1.0e-4}
+loading: {type: uniaxial, path: [[0, 0], [1, 0.1]]}
+)";
+
+std::string error_of(const std::string& text) {
+  try {
+    bench::parse_spec(text, "s.yaml");
+  } catch (const msd::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  const auto p = s.find(from);
+  EXPECT_NE(p, std::string::npos) << from;
+  return s.replace(p, from.size(), to);
+}
+
+}  // namespace
+
+TEST(Spec, ParsesAMinimalSpecWithDefaults) {
+  const bench::Spec s = bench::parse_spec(kGood, "s.yaml");
+  EXPECT_EQ(s.name, "t");
+  EXPECT_EQ(s.geometry.shape, "box");
+  EXPECT_DOUBLE_EQ(s.mesh.spacing, 0.01);
+  EXPECT_EQ(s.mesh.rule, "centre");
+  EXPECT_EQ(*s.material.youngs_modulus, 5000);
+  EXPECT_EQ(s.msd.integrator, "symplectic_euler");
+  EXPECT_EQ(s.msd.terms.size(), 4u);
+  EXPECT_EQ(s.msd.nonlinear_threshold, 0.0);
+  EXPECT_EQ(s.loading.platens, "bonded");
+  EXPECT_DOUBLE_EQ(s.output.interval, 0.01);
+  EXPECT_EQ(s.text, kGood);
+}
+
+TEST(Spec, ThesisCycleAndThreshold) {
+  std::string t = replace(kGood, "path: [[0, 0], [1, 0.1]]", "path: thesis_cycle");
+  t = replace(t, "dt: 1.0e-4", "dt: 1.0e-4, nonlinear_threshold: 0.7");
+  const bench::Spec s = bench::parse_spec(t, "s.yaml");
+  EXPECT_EQ(s.loading.path.size(), 5u);
+  EXPECT_DOUBLE_EQ(s.loading.path.back().first, 12.0);
+  EXPECT_DOUBLE_EQ(s.msd.nonlinear_threshold, 0.7);
+}
+
+TEST(Spec, UnknownFieldNamesFileLineAndPath) {
+  const std::string e = error_of(replace(kGood, "spacing: 0.01", "spacing: 0.01, spasing: 2"));
+  EXPECT_NE(e.find("s.yaml:3:"), std::string::npos) << e;
+  EXPECT_NE(e.find("mesh.spasing: unknown field"), std::string::npos) << e;
+}
+
+TEST(Spec, WrongTypesAndValuesAreNamed) {
+  EXPECT_NE(error_of(replace(kGood, "density: 1000", "density: heavy")).find("material.density: expected a number"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(kGood, "density: 1000", "density: -1")).find("material.density: must be positive"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(kGood, "dt: 1.0e-4", "dt: 0")).find("msd.dt"), std::string::npos);
+  EXPECT_NE(error_of(replace(kGood, "type: uniaxial", "type: torsion")).find("loading.type"), std::string::npos);
+  EXPECT_NE(error_of(replace(kGood, "spacing: 0.01", "spacing: -0.01")).find("mesh.spacing"), std::string::npos);
+  EXPECT_NE(error_of(replace(kGood, "youngs_modulus: 5000", "youngs_modulus: 5000, poisson_ratio: 0.5"))
+                .find("material.poisson_ratio"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(kGood, "[1, 0.1]", "[1, -1.5]")).find("loading.path"), std::string::npos);
+  EXPECT_NE(error_of(replace(kGood, "[[0, 0], [1, 0.1]]", "[[0, 0], [0, 0.1]]")).find("increase"), std::string::npos);
+  EXPECT_NE(error_of(replace(kGood, "shape: box, size: [0.02, 0.02, 0.04]", "shape: sphere")).find("geometry.shape"),
+            std::string::npos);
+}
+
+TEST(Spec, MissingFieldsAndInconsistentConstants) {
+  EXPECT_NE(error_of(replace(kGood, "mesh: {spacing: 0.01}\n", "")).find("mesh: required field is missing"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(kGood, ", youngs_modulus: 5000", "")).find("youngs_modulus is required"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(kGood, "constants: physical", "constants: physical, k_s: 3")).find("msd.k_s"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(kGood, "constants: physical", "constants: raw")).find("msd.k_s: required"),
+            std::string::npos);
+}
+
+TEST(Spec, YamlSyntaxErrorHasLine) {
+  const std::string e = error_of("name: x\ngeometry: {shape: box\n");
+  EXPECT_NE(e.find("s.yaml:"), std::string::npos) << e;
+  EXPECT_NE(e.find("YAML syntax error"), std::string::npos) << e;
+  EXPECT_NE(error_of("").find("empty"), std::string::npos);
+}
+
+TEST(Spec, ObjPathIsResolvedAgainstTheSpecFolder) {
+  const std::string t = replace(kGood, "shape: box, size: [0.02, 0.02, 0.04]", "shape: obj, file: leg.obj");
+  EXPECT_EQ(bench::parse_spec(t, "/data/specs/s.yaml").geometry.file, "/data/specs/leg.obj");
+}
+
+TEST(Spec, ShippedSpecsAllParse) {
+  for (const char* name : {"uniaxial_thesis_naive.yaml", "uniaxial_thesis_repulsion.yaml", "uniaxial_thesis_full.yaml"})
+    EXPECT_NO_THROW(bench::load_spec(std::string(TISSUEBENCH_SPECS_DIR) + "/" + name)) << name;
+  EXPECT_THROW(bench::load_spec("/nonexistent/spec.yaml"), msd::Error);
+}

@@ -1,0 +1,78 @@
+#include "msd/model/model.hpp"
+
+#include "msd/mesh/cubic_grid.hpp"
+
+#include <gtest/gtest.h>
+
+using msd::Vec3;
+
+namespace {
+
+msd::SampleMesh block() {
+  msd::SampleMeshOptions o;
+  o.spacing = 0.01;
+  return msd::mesh_closed_surface(msd::make_box(Vec3::Zero(), Vec3(0.02, 0.02, 0.04)), o, "block");
+}
+
+msd::TissueMaterial material(msd::MassLumping lumping) {
+  msd::TissueMaterial m;
+  m.density = 1000;
+  m.k_s = 1;
+  m.lumping = lumping;
+  return m;
+}
+
+}  // namespace
+
+TEST(Model, MassLumpingConservesMassBothWays) {
+  const auto s = block();
+  const double mass = 1000 * 0.02 * 0.02 * 0.04;
+  for (auto l : {msd::MassLumping::PerTet, msd::MassLumping::EqualPerNode}) {
+    msd::ModelOptions o;
+    o.region_materials = {material(l)};
+    const msd::Model m = msd::build_model(s.mesh, o);
+    EXPECT_NEAR(m.mass.sum(), mass, 1e-15);
+    if (l == msd::MassLumping::EqualPerNode) {
+      EXPECT_NEAR(m.mass.minCoeff(), m.mass.maxCoeff(), 1e-18);
+    } else {
+      // Corner nodes carry less than interior ones; centre of mass is right.
+      EXPECT_LT(m.mass.minCoeff(), 0.5 * m.mass.maxCoeff());
+      const Vec3 com = (m.rest_positions * m.mass) / m.mass.sum();
+      EXPECT_NEAR((com - Vec3(0.01, 0.01, 0.02)).norm(), 0.0, 1e-15);
+    }
+  }
+}
+
+TEST(Model, RestDataOfElements) {
+  const auto s = block();
+  msd::ModelOptions o;
+  o.region_materials = {material(msd::MassLumping::PerTet)};
+  const msd::Model m = msd::build_model(s.mesh, o);
+  double v = 0.0;
+  for (const auto& el : m.elements) {
+    v += el.rest_volume;
+    for (double h : el.rest_height) EXPECT_GT(h, 0.0);
+    for (double l : el.rest_length) EXPECT_TRUE(std::abs(l - 0.01) < 1e-12 || std::abs(l - 0.01 * std::sqrt(2.0)) < 1e-12);
+  }
+  EXPECT_NEAR(v, 0.02 * 0.02 * 0.04, 1e-15);
+}
+
+TEST(Model, BuildErrors) {
+  const auto s = block();
+  msd::ModelOptions o;
+  EXPECT_THROW(msd::build_model(s.mesh, o), msd::Error);  // no material for region 0
+  o.region_materials = {material(msd::MassLumping::PerTet)};
+  o.nonlinear_threshold = 1.5;
+  EXPECT_THROW(msd::build_model(s.mesh, o), msd::Error);
+  o.nonlinear_threshold = 0.7;
+  o.groups = {{"a", {0, 1}, {true, true, true}}, {"b", {1}, {true, true, true}}};
+  EXPECT_THROW(msd::build_model(s.mesh, o), msd::Error);  // node 1 in two groups
+  o.groups = {{"a", {999}, {true, true, true}}};
+  EXPECT_THROW(msd::build_model(s.mesh, o), msd::Error);
+}
+
+TEST(Model, TermNames) {
+  EXPECT_EQ(msd::parse_force_term("volume"), msd::kVolume);
+  EXPECT_THROW(msd::parse_force_term("collisions"), msd::Error);
+  EXPECT_EQ(msd::force_terms_to_string(msd::kSprings | msd::kVolume), "springs,volume");
+}

@@ -1,0 +1,58 @@
+// Helpers shared by the test suites: random tets, finite-difference gradients,
+// temporary folders.
+#pragma once
+
+#include "msd/core/types.hpp"
+#include "msd/mesh/tet_mesh.hpp"
+
+#include <filesystem>
+#include <functional>
+#include <random>
+#include <string>
+
+namespace testing_support {
+
+/// A random, positively oriented, reasonably shaped tet (quality > 0.2) near
+/// the origin with edges of about `scale`.
+inline void random_tet(std::mt19937& rng, msd::Vec3 x[4], double scale = 1.0) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (;;) {
+    for (int i = 0; i < 4; ++i) x[i] = scale * msd::Vec3(u(rng), u(rng), u(rng));
+    if (msd::tet_signed_volume(x[0], x[1], x[2], x[3]) < 0) std::swap(x[2], x[3]);
+    if (msd::tet_quality(x[0], x[1], x[2], x[3]) > 0.2) return;
+  }
+}
+
+/// Central-difference gradient of `energy` with respect to the 12 coordinates.
+inline void fd_gradient(const std::function<double(const msd::Vec3*)>& energy, const msd::Vec3 x[4],
+                        double h, msd::Vec3 grad[4]) {
+  msd::Vec3 y[4] = {x[0], x[1], x[2], x[3]};
+  for (int i = 0; i < 4; ++i)
+    for (int a = 0; a < 3; ++a) {
+      const double keep = y[i][a];
+      y[i][a] = keep + h;
+      const double up = energy(y);
+      y[i][a] = keep - h;
+      const double down = energy(y);
+      y[i][a] = keep;
+      grad[i][a] = (up - down) / (2 * h);
+    }
+}
+
+/// A fresh empty folder under the system temp dir, removed by the destructor.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& tag) {
+    std::random_device rd;
+    path_ = std::filesystem::temp_directory_path() / ("tb_" + tag + "_" + std::to_string(rd()));
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() { std::filesystem::remove_all(path_); }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+}  // namespace testing_support
