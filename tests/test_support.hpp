@@ -39,6 +39,18 @@ inline void fd_gradient(const std::function<double(const msd::Vec3*)>& energy, c
     }
 }
 
+/// The right-corner tet (0,0,0), (e,0,0), (0,e,0), (0,0,e) as a one-tet mesh.
+inline msd::TetMesh corner_tet_mesh(double e) {
+  msd::TetMesh m;
+  m.nodes.resize(3, 4);
+  m.nodes << 0, e, 0, 0,  //
+      0, 0, e, 0,         //
+      0, 0, 0, e;
+  m.tets = {{0, 1, 2, 3}};
+  m.region = {0};
+  return m;
+}
+
 /// A fresh empty folder under the system temp dir, removed by the destructor.
 class TempDir {
  public:

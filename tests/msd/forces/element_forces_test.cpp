@@ -21,16 +21,7 @@ msd::TissueMaterial raw(double ks, double kd, double kr, double kv) {
   return m;
 }
 
-msd::TetMesh single_tet() {
-  msd::TetMesh m;
-  m.nodes.resize(3, 4);
-  m.nodes << 0, 0.01, 0, 0,  //
-      0, 0, 0.01, 0,         //
-      0, 0, 0, 0.01;
-  m.tets = {{0, 1, 2, 3}};
-  m.region = {0};
-  return m;
-}
+msd::TetMesh single_tet() { return testing_support::corner_tet_mesh(0.01); }
 
 msd::Model block_model(unsigned terms, double threshold) {
   msd::SampleMeshOptions o;

@@ -1,5 +1,7 @@
 #include "msd/integrate/step.hpp"
 
+#include "test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,13 +13,7 @@ namespace {
 // One tet with nodes 0, 1, 2 pinned: node 3 oscillates on its three springs, a
 // small smooth non-linear oscillator (about 4.5 Hz for k = 100 N/m, 0.25 kg).
 msd::Model oscillator(double k, double mass_density) {
-  msd::TetMesh m;
-  m.nodes.resize(3, 4);
-  m.nodes << 0, 1, 0, 0,  //
-      0, 0, 1, 0,         //
-      0, 0, 0, 1;
-  m.tets = {{0, 1, 2, 3}};
-  m.region = {0};
+  const msd::TetMesh m = testing_support::corner_tet_mesh(1.0);
   msd::TissueMaterial mat;
   mat.density = mass_density;
   mat.k_s = k;

@@ -1,5 +1,7 @@
 #include "msd/mesh/tet_mesh.hpp"
 
+#include "test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,16 +10,7 @@ using msd::Vec3;
 
 namespace {
 
-msd::TetMesh unit_tet() {
-  msd::TetMesh m;
-  m.nodes.resize(3, 4);
-  m.nodes << 0, 1, 0, 0,  //
-      0, 0, 1, 0,         //
-      0, 0, 0, 1;
-  m.tets = {{0, 1, 2, 3}};
-  m.region = {0};
-  return m;
-}
+msd::TetMesh unit_tet() { return testing_support::corner_tet_mesh(1.0); }
 
 }  // namespace
 
