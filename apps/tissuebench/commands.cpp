@@ -2,8 +2,11 @@
 
 #include "progress.hpp"
 
+#include "bench/convergence.hpp"
+#include "bench/fem_runner.hpp"
 #include "bench/msd_runner.hpp"
 #include "bench/results_file.hpp"
+#include "fem/fem.hpp"
 #include "msd/forces/element_forces.hpp"
 
 #include <cstdio>
@@ -20,6 +23,8 @@ std::vector<std::string> default_suite() {
 
 namespace {
 
+bool root() { return fem::Session::rank() == 0; }
+
 void print_summary_header() {
   std::printf("%-28s %6s %5s %8s %8s %10s %10s %7s %7s %6s %7s %s\n", "spec", "tets", "nodes",
               "eps_min", "eps_max", "sig_min/Pa", "sig_max/Pa", "V/V0min", "V/V0max", "inv", "wall/s",
@@ -33,33 +38,67 @@ void print_summary_row(const bench::RunSummary& s) {
               s.complete ? "complete" : "FAILED");
 }
 
-}  // namespace
+void print_fem_row(const bench::RunSummary& s) {
+  std::printf("%-28s %-4s %8lu cells %9lu dofs  %6ld steps %8.2f s  %s", s.name.c_str(), s.solver.c_str(), s.cells,
+              s.dofs, s.steps, s.wall_seconds, s.complete ? "complete" : "FAILED");
+  if (s.loading == "uniaxial" || s.loading == "simple_shear")
+    std::printf("  stress [%.4g, %.4g] Pa", s.min_stress, s.max_stress);
+  if (s.loading != "vibration" && s.min_volume_ratio < 1e299)
+    std::printf("  V/V0 [%.4f, %.4f]", s.min_volume_ratio, s.max_volume_ratio);
+  for (const auto& [k, v] : s.highlights) std::printf("  %s = %.6g", k.c_str(), v);
+  std::printf("\n");
+}
 
-int cmd_run(const RunArgs& args) {
-  if (args.solver != "msd") {
-    std::cerr << "tissuebench run: solver '" << args.solver
-              << "' is not available in this build (available: msd)\n";
-    return 2;
+int report(const bench::Spec& spec, const bench::RunSummary& s) {
+  if (!root()) return s.complete ? 0 : 1;
+  if (s.solver == "msd") {
+    print_summary_header();
+    print_summary_row(s);
+  } else {
+    print_fem_row(s);
   }
-  const bench::Spec spec = bench::load_spec(args.spec);
-  ProgressLine progress(spec.name, !args.quiet);
-  const bench::RunSummary s =
-      bench::run_msd(spec, args.out, [&](double t, double end) { progress.update(t, end); });
-  progress.done();
-  print_summary_header();
-  print_summary_row(s);
   std::printf("results: %s (and %s)\n", s.out_path.c_str(),
               (fs::path(s.out_path).parent_path() / fs::path(s.out_path).stem()).string().append(".csv").c_str());
   if (!s.complete) {
-    std::cerr << "tissuebench run: " << spec.name << " failed: " << s.failure
-              << "\nthe results written up to the failure are kept in " << s.out_path
-              << " (status: failed)\n";
+    std::cerr << "tissuebench run: " << spec.name << " (" << s.solver << ") failed: " << s.failure
+              << "\nthe results written up to the failure are kept in " << s.out_path << " (status: failed)\n";
     return 1;
   }
   return 0;
 }
 
+}  // namespace
+
+int cmd_run(const RunArgs& args) {
+  const bench::Spec spec = bench::load_spec(args.spec);
+  ProgressLine progress(spec.name + " (" + args.solver + ")", !args.quiet && root());
+  auto tick = [&](double t, double end) { progress.update(t, end); };
+  if (args.solver == "msd") {
+    if (!root()) return 0;  // the MSD model runs on one process
+    const bench::RunSummary s = bench::run_msd(spec, args.out, tick);
+    progress.done();
+    return report(spec, s);
+  }
+  if (args.solver == "fem") {
+    const bench::RunSummary s = bench::run_fem(spec, args.out, tick);
+    progress.done();
+    return report(spec, s);
+  }
+  // both: args.out is a folder holding NAME_msd.h5 and NAME_fem.h5.
+  bench::RunSummary m;
+  if (root()) m = bench::run_msd(spec, (fs::path(args.out) / (spec.name + "_msd.h5")).string(), tick);
+  progress.done();
+  ProgressLine fem_progress(spec.name + " (fem)", !args.quiet && root());
+  const bench::RunSummary f = bench::run_fem(spec, (fs::path(args.out) / (spec.name + "_fem.h5")).string(),
+                                             [&](double t, double end) { fem_progress.update(t, end); });
+  fem_progress.done();
+  const int a = root() ? report(spec, m) : 0;
+  const int b = report(spec, f);
+  return std::max(a, b);
+}
+
 int cmd_suite(const SuiteArgs& args) {
+  if (!root()) return 0;
   const std::string dir = args.specs_dir.empty() ? TISSUEBENCH_SPECS_DIR : args.specs_dir;
   // Read every spec first: a bad one stops the suite before anything runs.
   std::vector<bench::Spec> specs;
@@ -83,12 +122,40 @@ int cmd_suite(const SuiteArgs& args) {
   return ok ? 0 : 1;
 }
 
+int cmd_converge(const ConvergeArgs& args) {
+  const bench::Spec spec = bench::load_spec(args.spec);
+  const unsigned degree = args.degree ? args.degree : spec.fem.degree;
+  if (root()) fs::create_directories(args.out);
+  ProgressLine progress(spec.name + " (convergence)", !args.quiet && root());
+  const bench::ConvergenceStudy st = bench::run_convergence(
+      spec, args.levels, degree, args.out, [&](double t, double end) { progress.update(t, end); });
+  progress.done();
+  if (!root()) return 0;
+  const std::string json = (fs::path(args.out) / (spec.name + "_p" + std::to_string(degree) + "_convergence.json")).string();
+  bench::write_convergence_json(st, json);
+  std::printf("Refinement study of %s (Q%u), quantity %s [%s]\n", spec.name.c_str(), degree, st.quantity.c_str(),
+              st.units.c_str());
+  std::printf("%6s %9s %10s %10s %14s %14s\n", "level", "cells", "dofs", "wall/s", "final value", "RMS diff");
+  for (size_t k = 0; k < st.levels.size(); ++k) {
+    const auto& L = st.levels[k];
+    std::printf("%6d %9lu %10lu %10.2f %14.8g", L.level, L.run.cells, L.run.dofs, L.run.wall_seconds,
+                L.values.empty() ? 0.0 : L.values.back());
+    if (k > 0) std::printf(" %14.4g", st.differences[k - 1]);
+    std::printf("\n");
+  }
+  std::printf("observed order %.3f; estimated RMS error of the finest level %.4g %s (%.3g %% of max |value|)\n",
+              st.observed_order, st.finest_error, st.units.c_str(), 100.0 * st.finest_relative_error);
+  std::printf("study: %s\n", json.c_str());
+  return 0;
+}
+
 int cmd_inspect(const InspectArgs& args) {
+  if (!root()) return 0;
   const bench::Spec spec = bench::load_spec(args.spec);
   const bench::MsdProblem p = bench::compile_msd(spec);
   std::printf("spec          %s (%s)\n", spec.name.c_str(), spec.path.c_str());
   std::printf("grid          %d x %d x %d cubes of h = %g m, rule %s\n", p.sample.grid.nx,
-              p.sample.grid.ny, p.sample.grid.nz, p.sample.grid.spacing, spec.mesh.rule.c_str());
+              p.sample.grid.ny, p.sample.grid.nz, p.sample.grid.spacing, spec.mesh->rule.c_str());
   std::printf("mesh          %ld cubes, %d tets, %d nodes, min quality %.3f\n", p.sample.cubes,
               p.model.num_elements(), p.model.num_nodes(), msd::min_quality(p.sample.mesh));
   std::printf("sample        l0 = %g m, A0 = %g m^2, V0 = %g m^3, mass = %g kg\n", p.setup.length,

@@ -25,6 +25,14 @@ struct InspectArgs {
 };
 int cmd_inspect(const InspectArgs& args);
 
+struct ConvergeArgs {
+  std::string spec, out = "convergence";
+  std::vector<int> levels{0, 1, 2};
+  unsigned degree = 0;  ///< 0: the spec's
+  bool quiet = false;
+};
+int cmd_converge(const ConvergeArgs& args);
+
 /// The specs of the default suite (the thesis' three uni-axial experiments).
 std::vector<std::string> default_suite();
 

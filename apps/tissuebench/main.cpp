@@ -3,6 +3,7 @@
 #include "commands.hpp"
 
 #include "bench/results_file.hpp"
+#include "fem/fem.hpp"
 #include "msd/core/types.hpp"
 
 #include <CLI/CLI.hpp>
@@ -10,6 +11,8 @@
 #include <iostream>
 
 int main(int argc, char** argv) {
+  // MPI (for the FEM solver) first; every process parses the same arguments.
+  fem::Session session(argc, argv);
   CLI::App cli{"tissuebench - the thesis' mass-spring-damper soft-tissue model and its validation harness"};
   cli.set_version_flag("--version", bench::tissuebench_version() + " (" + bench::git_revision() + ")");
   cli.require_subcommand(1);
@@ -17,8 +20,14 @@ int main(int argc, char** argv) {
   app::RunArgs run;
   auto* run_cmd = cli.add_subcommand("run", "Run one test specification and write its results file");
   run_cmd->add_option("spec", run.spec, "Test specification (YAML)")->required()->check(CLI::ExistingFile);
-  run_cmd->add_option("--out", run.out, "Results file to write (HDF5; a CSV copy goes beside it)")->required();
-  run_cmd->add_option("--solver", run.solver, "Solver: msd")->check(CLI::IsMember({"msd"}));
+  run_cmd->add_option("--out", run.out,
+                      "Results file to write (HDF5; a CSV copy goes beside it); a folder with --solver both")
+      ->required();
+  run_cmd->add_option("--solver", run.solver,
+                      "Solver: msd (mass-spring-damper), fem (finite-element reference; mpirun -np N for N "
+                      "processes) or both")
+      ->check(CLI::IsMember({"msd", "fem", "both"}))
+      ->capture_default_str();
   run_cmd->add_flag("--quiet", run.quiet, "No progress line");
 
   app::SuiteArgs suite;
@@ -32,6 +41,18 @@ int main(int argc, char** argv) {
   auto* inspect_cmd = cli.add_subcommand("inspect", "Mesh a specification and print its counts and constants");
   inspect_cmd->add_option("spec", inspect.spec, "Test specification (YAML)")->required()->check(CLI::ExistingFile);
 
+  app::ConvergeArgs converge;
+  auto* converge_cmd = cli.add_subcommand(
+      "converge", "Refinement study of the FEM reference: observed order and error estimate of the finest level");
+  converge_cmd->add_option("spec", converge.spec, "Test specification (YAML)")->required()->check(CLI::ExistingFile);
+  converge_cmd->add_option("--levels", converge.levels, "Refinement levels to run (at least three for an order)")
+      ->delimiter(',')
+      ->capture_default_str();
+  converge_cmd->add_option("--degree", converge.degree, "Element degree (default: the spec's)");
+  converge_cmd->add_option("--out", converge.out, "Folder for the results files and the JSON study")
+      ->capture_default_str();
+  converge_cmd->add_flag("--quiet", converge.quiet, "No progress line");
+
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -41,8 +62,12 @@ int main(int argc, char** argv) {
     if (*run_cmd) return app::cmd_run(run);
     if (*suite_cmd) return app::cmd_suite(suite);
     if (*inspect_cmd) return app::cmd_inspect(inspect);
+    if (*converge_cmd) return app::cmd_converge(converge);
   } catch (const msd::Error& e) {
-    std::cerr << "tissuebench: error: " << e.what() << "\n";
+    if (fem::Session::rank() == 0) std::cerr << "tissuebench: error: " << e.what() << "\n";
+    return 2;
+  } catch (const fem::Error& e) {
+    if (fem::Session::rank() == 0) std::cerr << "tissuebench: error: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "tissuebench: unexpected error: " << e.what() << "\n";

@@ -8,75 +8,91 @@
 
 namespace bench {
 
+const MsdSpec& msd_section(const Spec& spec) {
+  if (!spec.msd || !spec.mesh)
+    throw msd::Error(spec.path + ": the msd solver needs 'mesh' and 'msd' sections in the spec");
+  if (spec.loading.type != "uniaxial")
+    throw msd::Error(spec.path + ": loading.type '" + spec.loading.type +
+                     "' is not supported by the msd solver yet (supported: uniaxial)");
+  return *spec.msd;
+}
+
 msd::TriangleMesh make_surface(const GeometrySpec& g) {
   if (g.shape == "cylinder") return msd::make_cylinder(g.radius, g.height, g.segments);
   if (g.shape == "box") return msd::make_box(msd::Vec3::Zero(), g.size);
   if (g.shape == "obj") return msd::read_obj(g.file);
+  if (g.shape == "cooks_membrane")
+    throw msd::Error("geometry.shape: cooks_membrane is a plane-strain benchmark for the fem solver only");
   throw msd::Error("geometry.shape: unsupported shape '" + g.shape + "'");
 }
 
 msd::SampleMesh make_sample_mesh(const Spec& spec) {
+  msd_section(spec);
+  const MeshSpec& mesh = *spec.mesh;
   msd::SampleMeshOptions o;
-  o.spacing = spec.mesh.spacing;
-  o.rule = msd::parse_cube_rule(spec.mesh.rule);
-  o.origin = spec.mesh.origin;
-  o.max_cubes = spec.mesh.max_cubes;
+  o.spacing = mesh.spacing;
+  o.rule = msd::parse_cube_rule(mesh.rule);
+  o.origin = mesh.origin;
+  o.max_cubes = mesh.max_cubes;
   const std::string name = spec.geometry.shape == "obj" ? spec.geometry.file
                                                         : spec.path + ": geometry";
   return msd::mesh_closed_surface(make_surface(spec.geometry), o, name);
 }
 
 msd::TissueMaterial make_material(const Spec& spec) {
+  const MsdSpec& ms = msd_section(spec);
   msd::TissueMaterial m;
   m.density = spec.material.density;
-  m.lumping = spec.msd.mass_lumping == "equal" ? msd::MassLumping::EqualPerNode
+  m.lumping = ms.mass_lumping == "equal" ? msd::MassLumping::EqualPerNode
                                                : msd::MassLumping::PerTet;
-  m.repulsion_floor = spec.msd.repulsion_floor;
-  if (spec.msd.constants == "raw") {
+  m.repulsion_floor = ms.repulsion_floor;
+  if (ms.constants == "raw") {
     m.mode = msd::ConstantsMode::Raw;
-    m.k_s = spec.msd.k_s;
-    m.k_d = spec.msd.k_d;
-    m.k_r = spec.msd.k_r;
-    m.k_v = spec.msd.k_v;
+    m.k_s = ms.k_s;
+    m.k_d = ms.k_d;
+    m.k_r = ms.k_r;
+    m.k_v = ms.k_v;
   } else {
     m.mode = msd::ConstantsMode::Physical;
     m.youngs_modulus = spec.material.youngs_modulus.value_or(0.0);
     m.damping_time = spec.material.damping_time.value_or(0.0);
-    m.stiffness_scale = spec.msd.stiffness_scale;
-    m.repulsion_factor = spec.msd.repulsion_factor;
-    m.volume_factor = spec.msd.volume_factor;
+    m.stiffness_scale = ms.stiffness_scale;
+    m.repulsion_factor = ms.repulsion_factor;
+    m.volume_factor = ms.volume_factor;
   }
   msd::check_material(m, spec.path + ": material");
   return m;
 }
 
 MsdProblem compile_msd(const Spec& spec) {
+  const MsdSpec& ms = msd_section(spec);
   MsdProblem p{make_sample_mesh(spec), {}, {}, msd::LoadingPath(spec.loading.path, spec.path + ": loading.path"), {}};
   msd::ModelOptions o;
   o.terms = 0;
-  for (const auto& t : spec.msd.terms) o.terms |= msd::parse_force_term(t);
+  for (const auto& t : ms.terms) o.terms |= msd::parse_force_term(t);
   if (spec.loading.gravity.squaredNorm() > 0.0) o.terms |= msd::kGravity;
   o.gravity = spec.loading.gravity;
-  o.nonlinear_threshold = spec.msd.nonlinear_threshold;
+  o.nonlinear_threshold = ms.nonlinear_threshold;
   o.region_materials.assign(1, make_material(spec));
   p.setup = msd::add_platens(p.sample.mesh, msd::parse_platen_contact(spec.loading.platens), o);
   p.model = msd::build_model(p.sample.mesh, o);
-  p.stepping.dt = spec.msd.dt;
-  p.stepping.integrator = msd::parse_integrator(spec.msd.integrator);
+  p.stepping.dt = ms.dt;
+  p.stepping.integrator = msd::parse_integrator(ms.integrator);
   p.stepping.output_interval = spec.output.interval;
-  if (spec.output.interval < spec.msd.dt)
+  if (spec.output.interval < ms.dt)
     throw msd::Error(spec.path + ": output.interval (" + std::to_string(spec.output.interval) +
-                     " s) is shorter than msd.dt (" + std::to_string(spec.msd.dt) + " s)");
+                     " s) is shorter than msd.dt (" + std::to_string(ms.dt) + " s)");
   return p;
 }
 
 std::vector<std::pair<std::string, double>> material_record(const Spec& spec,
                                                             const msd::Model& model) {
+  msd_section(spec);
   const msd::TissueMaterial& m = model.region_materials.at(0);
   std::vector<std::pair<std::string, double>> r{{"density", m.density},
                                                 {"repulsion_floor", m.repulsion_floor},
                                                 {"nonlinear_threshold", model.nonlinear_threshold},
-                                                {"mesh_spacing", spec.mesh.spacing},
+                                                {"mesh_spacing", spec.mesh->spacing},
                                                 {"total_mass", model.mass.sum()}};
   if (m.mode == msd::ConstantsMode::Raw) {
     r.insert(r.end(), {{"k_s", m.k_s}, {"k_d", m.k_d}, {"k_r", m.k_r}, {"k_v", m.k_v}});
@@ -101,6 +117,7 @@ std::vector<std::pair<std::string, double>> material_record(const Spec& spec,
 }
 
 RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress& progress) {
+  const MsdSpec& ms = msd_section(spec);
   MsdProblem p = compile_msd(spec);  // every input error surfaces here, before any file exists
   const auto parent = std::filesystem::path(out_path).parent_path();
   if (!parent.empty()) std::filesystem::create_directories(parent);
@@ -113,8 +130,8 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
   meta.material = material_record(spec, p.model);
   meta.text = {{"terms", msd::force_terms_to_string(p.model.terms)},
                {"integrator", msd::to_string(p.stepping.integrator)},
-               {"mass_lumping", spec.msd.mass_lumping},
-               {"mesh_rule", spec.mesh.rule},
+               {"mass_lumping", ms.mass_lumping},
+               {"mesh_rule", spec.mesh->rule},
                {"test", spec.loading.type + " (" + spec.loading.platens + " platens)"}};
   ResultsWriter out(out_path, meta,
                     {{"time", "s"},

@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <ctime>
 #include <filesystem>
 #include <iomanip>
@@ -82,11 +83,12 @@ ResultsWriter::ResultsWriter(const std::string& path, const RunMeta& meta,
   const std::filesystem::path p(path);
   csv_path_ = (p.parent_path() / p.stem()).string() + ".csv";
   file_ = check_id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
-                   "creating the file (is the folder writable?)", path);
+                   "creating the file (is the folder writable, or the file open in another program?)", path);
   meta_ = H5Gcreate2(file_, "meta", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   series_ = H5Gcreate2(file_, "series", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   timing_ = H5Gcreate2(file_, "timing", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  check_id(meta_ < 0 || series_ < 0 || timing_ < 0 ? -1 : 0, "creating groups", path);
+  metrics_ = H5Gcreate2(file_, "metrics", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  check_id(meta_ < 0 || series_ < 0 || timing_ < 0 || metrics_ < 0 ? -1 : 0, "creating groups", path);
   write_text_attr(meta_, "solver", meta.solver, path);
   write_text_attr(meta_, "version", tissuebench_version(), path);
   write_text_attr(meta_, "git_revision", git_revision(), path);
@@ -129,6 +131,10 @@ ResultsWriter::~ResultsWriter() {
   } catch (...) {
   }
   for (hid_t d : datasets_) H5Dclose(d);
+  if (frame_time_ >= 0) H5Dclose(frame_time_);
+  if (frame_disp_ >= 0) H5Dclose(frame_disp_);
+  if (fields_ >= 0) H5Gclose(fields_);
+  if (metrics_ >= 0) H5Gclose(metrics_);
   if (timing_ >= 0) H5Gclose(timing_);
   if (series_ >= 0) H5Gclose(series_);
   if (meta_ >= 0) H5Gclose(meta_);
@@ -176,6 +182,81 @@ void ResultsWriter::set_timing(double wall_seconds, long steps, double dt, int t
   write_number_attr(timing_, "steps", static_cast<double>(steps), path_);
   write_number_attr(timing_, "dt", dt, path_);
   write_number_attr(timing_, "threads", threads, path_);
+}
+
+void ResultsWriter::set_timing_detail(const std::string& key, double value) {
+  write_number_attr(timing_, key, value, path_);
+}
+
+void ResultsWriter::set_metric(const std::string& key, double value) {
+  write_number_attr(metrics_, key, value, path_);
+}
+
+void ResultsWriter::write_surface(const std::vector<std::array<double, 3>>& points,
+                                  const std::vector<std::array<int, 3>>& triangles) {
+  if (fields_ >= 0) throw msd::Error(path_ + ": the surface of /fields is written once");
+  fields_ = check_id(H5Gcreate2(file_, "fields", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "creating /fields", path_);
+  surface_points_ = static_cast<long>(points.size());
+  auto write2d = [&](const char* name, hid_t type, hid_t mem, const void* data, hsize_t rows) {
+    const hsize_t dims[2] = {rows, 3};
+    const hid_t space = H5Screate_simple(2, dims, nullptr);
+    const hid_t ds = check_id(H5Dcreate2(fields_, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                              std::string("creating /fields/") + name, path_);
+    if (rows > 0) check(H5Dwrite(ds, mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "writing /fields", path_);
+    H5Dclose(ds);
+    H5Sclose(space);
+  };
+  write2d("surface_points", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, points.data(), points.size());
+  write2d("surface_triangles", H5T_STD_I32LE, H5T_NATIVE_INT, triangles.data(), triangles.size());
+  const hsize_t d1[1] = {0}, m1[1] = {H5S_UNLIMITED}, c1[1] = {64};
+  const hsize_t d3[3] = {0, static_cast<hsize_t>(points.size()), 3};
+  const hsize_t m3[3] = {H5S_UNLIMITED, static_cast<hsize_t>(points.size()), 3};
+  const hsize_t c3[3] = {1, std::max<hsize_t>(1, points.size()), 3};
+  hid_t space = H5Screate_simple(1, d1, m1), props = H5Pcreate(H5P_DATASET_CREATE);
+  H5Pset_chunk(props, 1, c1);
+  frame_time_ = check_id(H5Dcreate2(fields_, "frame_time", H5T_IEEE_F64LE, space, H5P_DEFAULT, props, H5P_DEFAULT),
+                         "creating /fields/frame_time", path_);
+  H5Pclose(props);
+  H5Sclose(space);
+  space = H5Screate_simple(3, d3, m3);
+  props = H5Pcreate(H5P_DATASET_CREATE);
+  H5Pset_chunk(props, 3, c3);
+  frame_disp_ = check_id(H5Dcreate2(fields_, "surface_displacement", H5T_IEEE_F64LE, space, H5P_DEFAULT, props,
+                                    H5P_DEFAULT),
+                         "creating /fields/surface_displacement", path_);
+  write_text_attr(frame_disp_, "units", "m", path_);
+  H5Pclose(props);
+  H5Sclose(space);
+}
+
+void ResultsWriter::append_frame(double time, const std::vector<std::array<double, 3>>& displacement) {
+  if (frame_disp_ < 0) throw msd::Error(path_ + ": append_frame before write_surface");
+  if (static_cast<long>(displacement.size()) != surface_points_)
+    throw msd::Error(path_ + ": a frame of " + std::to_string(displacement.size()) + " displacements for " +
+                     std::to_string(surface_points_) + " surface points");
+  const hsize_t f = static_cast<hsize_t>(frames_);
+  const hsize_t n1[1] = {f + 1};
+  check(H5Dset_extent(frame_time_, n1), "extending /fields/frame_time", path_);
+  hid_t fs = H5Dget_space(frame_time_);
+  const hsize_t s1[1] = {f}, k1[1] = {1};
+  H5Sselect_hyperslab(fs, H5S_SELECT_SET, s1, nullptr, k1, nullptr);
+  hid_t ms = H5Screate_simple(1, k1, nullptr);
+  check(H5Dwrite(frame_time_, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, &time), "writing frame time", path_);
+  H5Sclose(ms);
+  H5Sclose(fs);
+  const hsize_t n = static_cast<hsize_t>(surface_points_);
+  const hsize_t n3[3] = {f + 1, n, 3};
+  check(H5Dset_extent(frame_disp_, n3), "extending /fields/surface_displacement", path_);
+  fs = H5Dget_space(frame_disp_);
+  const hsize_t s3[3] = {f, 0, 0}, k3[3] = {1, n, 3};
+  H5Sselect_hyperslab(fs, H5S_SELECT_SET, s3, nullptr, k3, nullptr);
+  ms = H5Screate_simple(3, k3, nullptr);
+  if (n > 0)
+    check(H5Dwrite(frame_disp_, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, displacement.data()), "writing a frame",
+          path_);
+  H5Sclose(ms);
+  H5Sclose(fs);
+  ++frames_;
 }
 
 void ResultsWriter::set_meta(const std::string& key, const std::string& value) {
@@ -308,6 +389,23 @@ Results read_results(const std::string& path) {
   std::pair<std::map<std::string, std::string>*, std::map<std::string, double>*> tsink{nullptr, &r.timing};
   H5Aiterate2(timing, H5_INDEX_NAME, H5_ITER_INC, nullptr, collect_attr, &tsink);
   H5Gclose(timing);
+  if (H5Lexists(file, "metrics", H5P_DEFAULT) > 0) {
+    const hid_t g = H5Gopen2(file, "metrics", H5P_DEFAULT);
+    std::pair<std::map<std::string, std::string>*, std::map<std::string, double>*> msink{nullptr, &r.metrics};
+    H5Aiterate2(g, H5_INDEX_NAME, H5_ITER_INC, nullptr, collect_attr, &msink);
+    H5Gclose(g);
+  }
+  if (H5Lexists(file, "fields", H5P_DEFAULT) > 0 &&
+      H5Lexists(file, "fields/surface_displacement", H5P_DEFAULT) > 0) {
+    const hid_t ds = H5Dopen2(file, "fields/surface_displacement", H5P_DEFAULT);
+    const hid_t sp = H5Dget_space(ds);
+    hsize_t dims[3] = {0, 0, 0};
+    H5Sget_simple_extent_dims(sp, dims, nullptr);
+    r.surface_frames = static_cast<long>(dims[0]);
+    r.surface_points = static_cast<long>(dims[1]);
+    H5Sclose(sp);
+    H5Dclose(ds);
+  }
   H5Fclose(file);
   if (ok < 0) throw msd::Error(path + ": /series holds something other than 1-D datasets");
   size_t len = 0;

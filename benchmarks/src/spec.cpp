@@ -3,6 +3,7 @@
 #include "bench/yaml_fields.hpp"
 #include "msd/core/types.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -33,7 +34,7 @@ void one_of(const Fields& f, const std::string& key, const std::string& v,
 GeometrySpec parse_geometry(const Fields& f, const std::string& source) {
   GeometrySpec g;
   g.shape = f.text("shape");
-  one_of(f, "shape", g.shape, {"cylinder", "box", "obj"});
+  one_of(f, "shape", g.shape, {"cylinder", "box", "cooks_membrane", "obj"});
   if (g.shape == "cylinder") {
     f.only({"shape", "radius", "height", "segments"});
     g.radius = f.number("radius");
@@ -48,6 +49,8 @@ GeometrySpec parse_geometry(const Fields& f, const std::string& source) {
     g.size = vec3(f, "size");
     for (int a = 0; a < 3; ++a)
       if (!(g.size[a] > 0.0)) throw msd::Error(f.where("size") + "every side must be positive (m)");
+  } else if (g.shape == "cooks_membrane") {
+    f.only({"shape"});  // fixed: 48 mm wide, left edge 44 mm, right edge 16 mm, 1 mm thick
   } else {
     f.only({"shape", "file"});
     const std::filesystem::path p(f.text("file"));
@@ -70,8 +73,33 @@ MeshSpec parse_mesh(const Fields& f) {
   return m;
 }
 
-MaterialSpec parse_material(const Fields& f) {
-  f.only({"name", "density", "youngs_modulus", "poisson_ratio", "damping_time"});
+// A named entry of benchmarks/materials.yaml, merged under the spec's fields.
+YAML::Node library_material(const Fields& f) {
+  const std::string name = f.text("library");
+  const std::string file = TISSUEBENCH_MATERIALS_FILE;
+  YAML::Node lib;
+  try {
+    lib = YAML::LoadFile(file);
+  } catch (const YAML::Exception& e) {
+    throw msd::Error(file + ": cannot read the materials file: " + e.msg);
+  }
+  if (!lib[name]) {
+    std::string names;
+    for (const auto& kv : lib) names += (names.empty() ? "" : ", ") + kv.first.Scalar();
+    throw msd::Error(f.where("library") + "no material '" + name + "' in " + file + " (known: " + names + ")");
+  }
+  YAML::Node merged = YAML::Clone(lib[name]);
+  merged.remove("description");
+  for (const auto& kv : f.node())
+    if (kv.first.Scalar() != "library") merged[kv.first.Scalar()] = kv.second;
+  if (!merged["name"]) merged["name"] = name;
+  return merged;
+}
+
+MaterialSpec parse_material(const Fields& given) {
+  given.only({"library", "name", "density", "youngs_modulus", "poisson_ratio", "shear_modulus", "bulk_modulus",
+              "damping_time"});
+  const Fields f = given.has("library") ? Fields(library_material(given), "material", given.file()) : given;
   MaterialSpec m;
   m.name = f.text_or("name", "");
   m.density = f.number("density");
@@ -85,6 +113,16 @@ MaterialSpec parse_material(const Fields& f) {
     if (!(*m.poisson_ratio > -1.0 && *m.poisson_ratio < 0.5))
       throw msd::Error(f.where("poisson_ratio") + "must lie in (-1, 0.5)");
   }
+  for (const char* k : {"shear_modulus", "bulk_modulus"})
+    if (f.has(k)) {
+      const double v = f.number(k);
+      positive(f, k, v, "Pa");
+      (std::string(k) == "shear_modulus" ? m.shear_modulus : m.bulk_modulus) = v;
+    }
+  if (m.shear_modulus.has_value() != m.bulk_modulus.has_value())
+    throw msd::Error(f.where() + "give shear_modulus and bulk_modulus together");
+  if (m.shear_modulus && (m.youngs_modulus || m.poisson_ratio))
+    throw msd::Error(f.where() + "give either youngs_modulus/poisson_ratio or shear_modulus/bulk_modulus, not both");
   if (f.has("damping_time")) {
     m.damping_time = f.number("damping_time");
     if (*m.damping_time < 0.0) throw msd::Error(f.where("damping_time") + "must be >= 0 (s)");
@@ -150,28 +188,102 @@ MsdSpec parse_msd(const Fields& f) {
   return m;
 }
 
-LoadingSpec parse_loading(const Fields& f) {
-  f.only({"type", "platens", "path", "gravity"});
-  LoadingSpec l;
-  l.type = f.text("type");
-  one_of(f, "type", l.type, {"uniaxial"});
-  l.platens = f.text_or("platens", l.platens);
-  one_of(f, "platens", l.platens, {"bonded", "frictionless"});
+unsigned unsigned_field(const Fields& f, const std::string& key, unsigned fallback, unsigned lo, unsigned hi) {
+  const long v = f.integer_or(key, fallback);
+  if (v < static_cast<long>(lo) || v > static_cast<long>(hi))
+    throw msd::Error(f.where(key) + "must be between " + std::to_string(lo) + " and " + std::to_string(hi));
+  return static_cast<unsigned>(v);
+}
+
+FemSpec parse_fem(const Fields& f) {
+  f.only({"formulation", "degree", "refinement", "cells", "linear_solver", "residual_tolerance",
+          "increment_tolerance", "max_iterations", "max_cuts", "max_increment", "relative_tolerance",
+          "absolute_tolerance", "rayleigh_mass", "vtu", "fields_interval"});
+  FemSpec m;
+  m.formulation = f.text_or("formulation", m.formulation);
+  one_of(f, "formulation", m.formulation, {"three_field", "displacement"});
+  m.degree = unsigned_field(f, "degree", m.degree, 1, 3);
+  m.refinement = unsigned_field(f, "refinement", m.refinement, 0, 8);
+  if (f.has("cells")) {
+    const std::vector<double> c = f.number_list("cells");
+    if (c.size() != 3) throw msd::Error(f.where("cells") + "expected three cell counts [nx, ny, nz]");
+    std::array<unsigned, 3> cells{};
+    for (int a = 0; a < 3; ++a) {
+      if (!(c[a] >= 1 && c[a] <= 4096 && c[a] == std::floor(c[a])))
+        throw msd::Error(f.where("cells") + "cell counts must be whole numbers from 1 to 4096");
+      cells[a] = static_cast<unsigned>(c[a]);
+    }
+    m.cells = cells;
+  }
+  m.linear_solver = f.text_or("linear_solver", m.linear_solver);
+  one_of(f, "linear_solver", m.linear_solver, {"direct", "amg"});
+  for (const char* k : {"residual_tolerance", "increment_tolerance", "relative_tolerance", "absolute_tolerance"})
+    if (f.has(k) && !(f.number(k) > 0.0 && f.number(k) < 1.0)) throw msd::Error(f.where(k) + "must lie in (0, 1)");
+  m.residual_tolerance = f.number_or("residual_tolerance", m.residual_tolerance);
+  m.increment_tolerance = f.number_or("increment_tolerance", m.increment_tolerance);
+  m.relative_tolerance = f.number_or("relative_tolerance", m.relative_tolerance);
+  m.absolute_tolerance = f.number_or("absolute_tolerance", m.absolute_tolerance);
+  m.max_iterations = unsigned_field(f, "max_iterations", m.max_iterations, 1, 1000);
+  m.max_cuts = unsigned_field(f, "max_cuts", m.max_cuts, 0, 30);
+  m.max_increment = f.number_or("max_increment", 0.0);
+  if (m.max_increment < 0.0) throw msd::Error(f.where("max_increment") + "must be >= 0");
+  m.rayleigh_mass = f.number_or("rayleigh_mass", 0.0);
+  if (m.rayleigh_mass < 0.0) throw msd::Error(f.where("rayleigh_mass") + "must be >= 0 (1/s)");
+  if (f.has("vtu")) {
+    const std::string v = f.text("vtu");
+    if (v != "true" && v != "false") throw msd::Error(f.where("vtu") + "expected true or false");
+    m.vtu = v == "true";
+  }
+  m.fields_interval = f.number_or("fields_interval", 0.0);
+  if (m.fields_interval < 0.0) throw msd::Error(f.where("fields_interval") + "must be >= 0 (s)");
+  return m;
+}
+
+std::vector<std::pair<double, double>> parse_path(const Fields& f) {
+  std::vector<std::pair<double, double>> path;
   const YAML::Node p = f.node()["path"];
   if (p && p.IsScalar()) {
     if (p.Scalar() != "thesis_cycle")
-      throw msd::Error(f.where("path") + "expected 'thesis_cycle' or a list of [time, strain]");
-    l.path = {{0.0, 0.0}, {2.0, -0.5}, {4.0, 0.0}, {8.0, 1.0}, {12.0, 0.0}};
+      throw msd::Error(f.where("path") + "expected 'thesis_cycle' or a list of [time, value]");
+    path = {{0.0, 0.0}, {2.0, -0.5}, {4.0, 0.0}, {8.0, 1.0}, {12.0, 0.0}};
   } else {
-    l.path = f.pair_list("path");
+    path = f.pair_list("path");
   }
-  if (l.path.size() < 2 || l.path.front().first != 0.0)
-    throw msd::Error(f.where("path") + "needs at least two [time, strain] points starting at time 0");
-  for (size_t i = 1; i < l.path.size(); ++i)
-    if (!(l.path[i].first > l.path[i - 1].first))
+  if (path.size() < 2 || path.front().first != 0.0)
+    throw msd::Error(f.where("path") + "needs at least two [time, value] points starting at time 0");
+  for (size_t i = 1; i < path.size(); ++i)
+    if (!(path[i].first > path[i - 1].first))
       throw msd::Error(f.where("path") + "times must increase strictly (point " + std::to_string(i) + ")");
-  for (const auto& [t, e] : l.path)
-    if (!(e > -1.0)) throw msd::Error(f.where("path") + "nominal strain must stay above -1");
+  return path;
+}
+
+LoadingSpec parse_loading(const Fields& f) {
+  LoadingSpec l;
+  l.type = f.text("type");
+  one_of(f, "type", l.type, {"uniaxial", "simple_shear", "cooks_membrane", "vibration"});
+  if (l.type == "uniaxial") {
+    f.only({"type", "platens", "path", "gravity"});
+    l.platens = f.text_or("platens", l.platens);
+    one_of(f, "platens", l.platens, {"bonded", "frictionless"});
+    l.path = parse_path(f);
+    for (const auto& [t, e] : l.path)
+      if (!(e > -1.0)) throw msd::Error(f.where("path") + "nominal strain must stay above -1");
+  } else if (l.type == "simple_shear") {
+    f.only({"type", "path"});
+    l.path = parse_path(f);
+  } else if (l.type == "cooks_membrane") {
+    f.only({"type", "force", "path"});
+    l.force = f.number("force");
+    l.path = f.has("path") ? parse_path(f) : std::vector<std::pair<double, double>>{{0.0, 0.0}, {1.0, 1.0}};
+  } else {
+    f.only({"type", "initial", "amplitude", "duration", "gravity"});
+    l.initial = f.text_or("initial", l.initial);
+    one_of(f, "initial", l.initial, {"axial_mode", "axial_stretch"});
+    l.amplitude = f.number("amplitude");
+    l.duration = f.number("duration");
+    positive(f, "duration", l.duration, "s");
+    l.path = {{0.0, 0.0}, {l.duration, 0.0}};
+  }
   if (f.has("gravity")) l.gravity = vec3(f, "gravity");
   return l;
 }
@@ -188,23 +300,25 @@ Spec parse_spec(const std::string& text, const std::string& source) {
   }
   if (!root || root.IsNull()) throw msd::Error(source + ": the spec is empty");
   const Fields f(root, "", source);
-  f.only({"name", "description", "geometry", "mesh", "material", "msd", "loading", "output"});
+  f.only({"name", "description", "geometry", "mesh", "material", "msd", "fem", "loading", "output"});
   Spec s;
   s.path = source;
   s.text = text;
   s.name = f.text("name");
   s.description = f.text_or("description", "");
   s.geometry = parse_geometry(f.section("geometry"), source);
-  s.mesh = parse_mesh(f.section("mesh"));
+  if (f.has("mesh")) s.mesh = parse_mesh(f.section("mesh"));
   s.material = parse_material(f.section("material"));
-  s.msd = parse_msd(f.section("msd"));
+  if (f.has("msd")) s.msd = parse_msd(f.section("msd"));
+  if (f.has("fem")) s.fem = parse_fem(f.section("fem"));
   s.loading = parse_loading(f.section("loading"));
   if (auto o = f.optional_section("output")) {
     o->only({"interval"});
     s.output.interval = o->number("interval");
     positive(*o, "interval", s.output.interval, "s");
   }
-  if (s.msd.constants == "physical" && !s.material.youngs_modulus)
+  if (s.msd && !s.mesh) throw msd::Error(f.where("msd") + "the msd solver needs a 'mesh' section");
+  if (s.msd && s.msd->constants == "physical" && !s.material.youngs_modulus)
     throw msd::Error(f.where("material") + "youngs_modulus is required for 'msd.constants: physical'");
   return s;
 }

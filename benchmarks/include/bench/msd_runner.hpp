@@ -15,6 +15,9 @@
 
 namespace bench {
 
+/// The spec's msd section; throws if the spec lacks what the msd solver needs.
+const MsdSpec& msd_section(const Spec& spec);
+
 /// The closed surface a spec's geometry describes.
 msd::TriangleMesh make_surface(const GeometrySpec& g);
 
@@ -41,11 +44,16 @@ std::vector<std::pair<std::string, double>> material_record(const Spec& spec,
 
 struct RunSummary {
   std::string name;
+  std::string solver = "msd";
+  std::string loading = "uniaxial";
   bool complete = false;
   std::string failure;
   std::string out_path;
-  int nodes = 0, tets = 0;
-  long cubes = 0;
+  int nodes = 0, tets = 0;            ///< msd
+  long cubes = 0;                     ///< msd
+  unsigned long dofs = 0, cells = 0;  ///< fem
+  /// Named key results for the summary table (e.g. "f1_Hz", "tip_mm").
+  std::vector<std::pair<std::string, double>> highlights;
   long steps = 0;
   double wall_seconds = 0.0;
   double simulated_seconds = 0.0;

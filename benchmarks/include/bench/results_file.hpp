@@ -5,7 +5,10 @@
 //            ("incomplete" while running or after a crash, "failed", "complete"), failure (message, when failed)
 //   /meta/material  attributes: the material constants actually used
 //   /series  equal-length 1-D float64 datasets, each with a "units" attribute
-//   /timing  attributes: wall_seconds, steps, dt, threads
+//   /timing  attributes: wall_seconds, steps, dt, threads (+ solver details)
+//   /metrics attributes: derived scalars (e.g. first_frequency), optional
+//   /fields  optional: surface_points (N x 3, reference), surface_triangles
+//            (M x 3), frame_time (F), surface_displacement (F x N x 3)
 //
 // The file is created when a run starts with status "running", rows are
 // appended and flushed as the run goes, and the status becomes "complete" or
@@ -16,6 +19,7 @@
 
 #include <hdf5.h>
 
+#include <array>
 #include <chrono>
 #include <fstream>
 #include <map>
@@ -49,6 +53,15 @@ class ResultsWriter {
   void append(const std::vector<double>& row);
   /// Records /timing attributes.
   void set_timing(double wall_seconds, long steps, double dt, int threads);
+  /// Adds a numeric /timing attribute (solver details: dofs, Newton iterations...).
+  void set_timing_detail(const std::string& key, double value);
+  /// Adds a numeric /metrics attribute.
+  void set_metric(const std::string& key, double value);
+  /// Writes the reference surface of /fields (once, before frames).
+  void write_surface(const std::vector<std::array<double, 3>>& points,
+                     const std::vector<std::array<int, 3>>& triangles);
+  /// Appends one frame of surface displacements (one per surface point).
+  void append_frame(double time, const std::vector<std::array<double, 3>>& displacement);
   /// Adds a text attribute to /meta.
   void set_meta(const std::string& key, const std::string& value);
   /// Marks the run complete (and flushes).
@@ -64,7 +77,9 @@ class ResultsWriter {
   void flush();
   std::string path_, csv_path_;
   std::vector<SeriesColumn> columns_;
-  hid_t file_ = -1, meta_ = -1, series_ = -1, timing_ = -1;
+  hid_t file_ = -1, meta_ = -1, series_ = -1, timing_ = -1, metrics_ = -1, fields_ = -1;
+  hid_t frame_time_ = -1, frame_disp_ = -1;
+  long frames_ = 0, surface_points_ = 0;
   std::vector<hid_t> datasets_;
   std::vector<std::vector<double>> pending_;
   long rows_ = 0;
@@ -79,6 +94,8 @@ struct Results {
   std::map<std::string, std::vector<double>> series;
   std::map<std::string, std::string> units;      ///< per series
   std::map<std::string, double> timing;
+  std::map<std::string, double> metrics;
+  long surface_points = 0, surface_frames = 0;  ///< sizes of /fields, when present
   std::string status() const;
 };
 

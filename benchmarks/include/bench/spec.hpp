@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <optional>
 #include <string>
 #include <utility>
@@ -14,7 +15,7 @@
 namespace bench {
 
 struct GeometrySpec {
-  std::string shape;                 ///< cylinder | box | obj
+  std::string shape;                 ///< cylinder | box | cooks_membrane | obj
   double radius = 0.0, height = 0.0; ///< cylinder, m
   int segments = 64;                 ///< cylinder polygon
   Eigen::Vector3d size{Eigen::Vector3d::Zero()};  ///< box, m (lowest corner at 0)
@@ -33,6 +34,8 @@ struct MaterialSpec {
   double density = 0.0;                   ///< kg/m^3
   std::optional<double> youngs_modulus;   ///< Pa
   std::optional<double> poisson_ratio;    ///< used by continuum solvers
+  std::optional<double> shear_modulus;    ///< Pa (alternative to E, nu)
+  std::optional<double> bulk_modulus;     ///< Pa (alternative to E, nu)
   std::optional<double> damping_time;     ///< s, stiffness-proportional damping
 };
 
@@ -50,10 +53,36 @@ struct MsdSpec {
   double dt = 0.0;
 };
 
+/// Settings of the finite-element reference solver.
+struct FemSpec {
+  std::string formulation = "three_field";  ///< three_field | displacement
+  unsigned degree = 1;
+  unsigned refinement = 0;
+  std::optional<std::array<unsigned, 3>> cells;  ///< coarse cells (default from mesh.spacing)
+  std::string linear_solver = "direct";     ///< direct | amg
+  double residual_tolerance = 1e-9;
+  double increment_tolerance = 1e-9;
+  unsigned max_iterations = 25;
+  unsigned max_cuts = 8;
+  double max_increment = 0.0;               ///< load-time units; 0 = one per output interval
+  double relative_tolerance = 1e-6;         ///< dynamics (SUNDIALS IDA)
+  double absolute_tolerance = 1e-12;
+  double rayleigh_mass = 0.0;               ///< 1/s
+  bool vtu = true;
+  double fields_interval = 0.0;             ///< s; 0 = every output
+};
+
 struct LoadingSpec {
+  /// uniaxial | simple_shear | cooks_membrane | vibration
   std::string type = "uniaxial";
-  std::string platens = "bonded";         ///< bonded | frictionless
-  std::vector<std::pair<double, double>> path;  ///< (time s, nominal strain)
+  std::string platens = "bonded";         ///< uniaxial: bonded | frictionless
+  /// (time s, value): nominal strain (uniaxial), shear strain gamma
+  /// (simple_shear), load factor (cooks_membrane).
+  std::vector<std::pair<double, double>> path;
+  double force = 0.0;                     ///< cooks_membrane: total shear force, N
+  std::string initial = "axial_mode";     ///< vibration: axial_mode | axial_stretch
+  double amplitude = 0.0;                 ///< vibration: strain amplitude
+  double duration = 0.0;                  ///< vibration: s
   Eigen::Vector3d gravity{Eigen::Vector3d::Zero()};
 };
 
@@ -66,9 +95,10 @@ struct Spec {
   std::string path;   ///< file it was read from ("" for text)
   std::string text;   ///< the YAML text, stored verbatim in every results file
   GeometrySpec geometry;
-  MeshSpec mesh;
+  std::optional<MeshSpec> mesh;   ///< the MSD cubic grid (needed by the msd solver)
   MaterialSpec material;
-  MsdSpec msd;
+  std::optional<MsdSpec> msd;     ///< needed by the msd solver
+  FemSpec fem;
   LoadingSpec loading;
   OutputSpec output;
 };

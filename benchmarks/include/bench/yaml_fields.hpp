@@ -39,6 +39,7 @@ class Fields {
   std::string where(const std::string& key = "") const;
 
   const YAML::Node& node() const { return node_; }
+  const std::string& file() const { return file_; }
 
  private:
   YAML::Node get(const std::string& key) const;

@@ -1,0 +1,20 @@
+// Frequency and damping of a ringing signal (vibration benchmarks): the period
+// from linearly interpolated upward zero crossings (about the signal's final
+// mean), the damping ratio from the logarithmic decrement of successive
+// positive peaks.
+#pragma once
+
+#include <vector>
+
+namespace bench {
+
+struct RingDown {
+  double frequency = 0.0;      ///< Hz (0 when fewer than two upward crossings)
+  double damping_ratio = 0.0;  ///< zeta from delta = ln(x_k / x_{k+1}) (0 without two peaks)
+  int crossings = 0;           ///< upward zero crossings used
+  int peaks = 0;
+};
+
+RingDown analyse_ring_down(const std::vector<double>& time, const std::vector<double>& signal);
+
+}  // namespace bench

@@ -1,0 +1,36 @@
+#include "bench/signal_analysis.hpp"
+
+#include <cmath>
+
+namespace bench {
+
+RingDown analyse_ring_down(const std::vector<double>& t, const std::vector<double>& x) {
+  RingDown r;
+  const size_t n = std::min(t.size(), x.size());
+  if (n < 3) return r;
+  // Oscillation about the mean of the last third (the static offset, if any).
+  double mean = 0.0;
+  size_t count = 0;
+  for (size_t i = 2 * n / 3; i < n; ++i, ++count) mean += x[i];
+  mean /= static_cast<double>(count);
+  std::vector<double> up;
+  for (size_t i = 1; i < n; ++i) {
+    const double a = x[i - 1] - mean, b = x[i] - mean;
+    if (a < 0.0 && b >= 0.0) up.push_back(t[i - 1] + (t[i] - t[i - 1]) * (-a) / (b - a));
+  }
+  r.crossings = static_cast<int>(up.size());
+  if (up.size() >= 2) r.frequency = static_cast<double>(up.size() - 1) / (up.back() - up.front());
+  std::vector<double> peaks;
+  for (size_t i = 1; i + 1 < n; ++i) {
+    const double v = x[i] - mean;
+    if (v > 0.0 && v >= x[i - 1] - mean && v > x[i + 1] - mean) peaks.push_back(v);
+  }
+  r.peaks = static_cast<int>(peaks.size());
+  if (peaks.size() >= 2) {
+    const double delta = std::log(peaks.front() / peaks.back()) / static_cast<double>(peaks.size() - 1);
+    r.damping_ratio = delta / std::sqrt(4.0 * M_PI * M_PI + delta * delta);
+  }
+  return r;
+}
+
+}  // namespace bench

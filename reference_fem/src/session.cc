@@ -1,0 +1,43 @@
+// MPI for the whole process, through deal.II (which also initialises PETSc and
+// Trilinos' needs); one thread per process so timings are comparable.
+#include "fem/fem.hpp"
+
+#include <deal.II/base/mpi.h>
+
+#include <memory>
+
+namespace fem {
+
+namespace {
+std::unique_ptr<dealii::Utilities::MPI::MPI_InitFinalize> g_mpi;
+}
+
+Session::Session(int& argc, char**& argv) {
+  if (g_mpi) throw Error("fem::Session created twice");
+  g_mpi = std::make_unique<dealii::Utilities::MPI::MPI_InitFinalize>(argc, argv, 1);
+}
+
+Session::~Session() { g_mpi.reset(); }
+
+int Session::rank() { return static_cast<int>(dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD)); }
+int Session::size() { return static_cast<int>(dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD)); }
+
+NeoHookean neo_hookean_from(double E, double nu, double density) {
+  if (!(E > 0.0)) throw Error("material: Young's modulus must be positive");
+  if (!(nu > -1.0 && nu < 0.5)) throw Error("material: Poisson's ratio must lie in (-1, 0.5)");
+  return {E / (2.0 * (1.0 + nu)), E / (3.0 * (1.0 - 2.0 * nu)), density};
+}
+
+double Path::operator()(double t) const {
+  if (points.empty()) return 1.0;
+  if (t <= points.front().first) return points.front().second;
+  for (size_t i = 1; i < points.size(); ++i)
+    if (t <= points[i].first) {
+      const auto& [t0, v0] = points[i - 1];
+      const auto& [t1, v1] = points[i];
+      return v0 + (v1 - v0) * (t - t0) / (t1 - t0);
+    }
+  return points.back().second;
+}
+
+}  // namespace fem
