@@ -9,6 +9,7 @@ TB_PACKAGES=(
   build-essential cmake pkg-config ccache git
   libeigen3-dev libyaml-cpp-dev libcli11-dev
   libhdf5-openmpi-dev
+  libdeal.ii-dev libsundials-dev openmpi-bin libopenblas0-serial
   libgtest-dev libbenchmark-dev
   python3 python3-numpy python3-h5py python3-matplotlib
 )

@@ -3,6 +3,7 @@
 #include "commands.hpp"
 
 #include "bench/results_file.hpp"
+#include "fem/blas_tuning.hpp"
 #include "fem/fem.hpp"
 #include "msd/core/types.hpp"
 
@@ -11,6 +12,7 @@
 #include <iostream>
 
 int main(int argc, char** argv) {
+  fem::tune_blas_and_reexec(argv);
   // MPI (for the FEM solver) first; every process parses the same arguments.
   fem::Session session(argc, argv);
   CLI::App cli{"tissuebench - the thesis' mass-spring-damper soft-tissue model and its validation harness"};

@@ -203,16 +203,25 @@ RunSummary run_fem(const Spec& spec, const std::string& out_path, const Progress
   const bool root = fem::Session::rank() == 0;
   const fs::path out(out_path);
   const std::string vtu_dir = spec.fem.vtu ? (out.parent_path() / (out.stem().string() + "_vtu")).string() : "";
-  const fem::Problem problem = make_fem_problem(spec, vtu_dir);  // input errors surface here
+  fem::Problem problem;
+  try {
+    problem = make_fem_problem(spec, vtu_dir);  // input errors surface here
+  } catch (const fem::Error& e) {
+    throw msd::Error(spec.path + ": " + e.what());
+  }
   const fem::NeoHookean mat = problem.material;
   if (root) {
     if (!out.parent_path().empty()) fs::create_directories(out.parent_path());
     if (!vtu_dir.empty()) fs::create_directories(vtu_dir);
   }
 
+  // The results file is created at the first report, so input errors the
+  // solver detects while setting up (a pin with no vertex, a face that does not
+  // exist) leave nothing behind.
   std::unique_ptr<ResultsWriter> writer;
   const Layout layout = layout_for(spec.loading.type);
-  if (root) {
+  auto open_writer = [&] {
+    if (!root || writer) return;
     RunMeta meta;
     meta.solver = "fem";
     meta.spec_text = spec.text;
@@ -232,7 +241,7 @@ RunSummary run_fem(const Spec& spec, const std::string& out_path, const Progress
                  {"linear_solver", spec.fem.linear_solver},
                  {"test", spec.loading.type + (spec.loading.type == "uniaxial" ? " (" + spec.loading.platens + " platens)" : "")}};
     writer = std::make_unique<ResultsWriter>(out_path, meta, layout.columns);
-  }
+  };
 
   RunSummary s;
   s.name = spec.name;
@@ -246,12 +255,14 @@ RunSummary run_fem(const Spec& spec, const std::string& out_path, const Progress
   fem::Callbacks cb;
   cb.progress = progress;
   cb.on_surface = [&](const fem::Surface& surf) {
+    open_writer();
     if (writer) writer->write_surface(surf.points, surf.triangles);
   };
   cb.on_frame = [&](double t, const std::vector<std::array<double, 3>>& d) {
     if (writer) writer->append_frame(t, d);
   };
   cb.on_report = [&](const fem::Report& r) {
+    open_writer();
     if (!writer) return;
     std::vector<double> row;
     const std::string& type = spec.loading.type;
@@ -289,8 +300,13 @@ RunSummary run_fem(const Spec& spec, const std::string& out_path, const Progress
   try {
     sum = fem::solve(problem, cb);
     s.complete = true;
-  } catch (const fem::Error& e) {
+  } catch (const fem::SolveError& e) {
     s.failure = e.what();
+    sum = e.summary;
+    open_writer();  // a failure before the first report still leaves a record
+  } catch (const fem::Error& e) {
+    if (root && !vtu_dir.empty() && fs::is_empty(vtu_dir)) fs::remove(vtu_dir);
+    throw msd::Error(spec.path + ": " + e.what());
   }
   s.dofs = sum.dofs;
   s.cells = sum.cells;

@@ -132,6 +132,7 @@ class Solver {
   SolverControl direct_control{1, 0};  // outlives `direct`, which keeps a reference
   std::unique_ptr<LA::SolverDirect> direct;
   std::unique_ptr<LA::PreconditionAMG> amg;
+  bool factorized = false;  // a tangent factorisation from an earlier iteration exists
 
   std::vector<std::vector<IndexSet>> face_dofs;  // [reaction face][component], owned
   std::vector<double> face_area;                 // by boundary id 0..6
@@ -139,6 +140,7 @@ class Solver {
   std::vector<Point<3>> probe_points, pin_points;
 
   Summary summary;
+  double last_min_J = 1.0;
   unsigned newton_since_report = 0, cuts_since_report = 0;
   double next_fields_time = 0.0;
   unsigned frame = 0;
@@ -501,6 +503,7 @@ void Solver::prepare_solver(LA::SparseMatrix& A) {
     amg->initialize(A, data);
   }
   ++summary.factorizations;
+  factorized = true;
   summary.linear_solver_seconds += seconds_since(t0);
 }
 
@@ -539,11 +542,14 @@ bool Solver::newton_increment(double t0, double t1, unsigned& iterations) {
   };
   // Predictor: when the Dirichlet data move, one tangent step with the
   // increment imposed, so every later state satisfies them.
+  // The tangent factorised in the previous increment is reused when there is
+  // one (modified Newton across increments; the line search and the refresh
+  // rule below take over if it has gone stale).
   if (first.has_inhomogeneities()) {
-    if (!evaluate(u, true, first).valid) return false;
+    if (!evaluate(u, true, first).valid) return false;  // the matrix enters the rhs correction
     du = 0.0;
     try {
-      prepare_solver(K);
+      if (!factorized) prepare_solver(K);
       solve_prepared(K, du, rhs);
     } catch (const std::exception&) {
       return false;
@@ -639,13 +645,18 @@ void Solver::run_quasi_static() {
       for (;;) {
         unsigned iterations = 0;
         const bool ok = newton_increment(t, t + dt, iterations);
+        if (!ok) factorized = false;  // retry the halved increment with a fresh tangent
         summary.newton_iterations += iterations;
         newton_since_report += iterations;
         if (ok) break;
-        if (++cuts > P.newton.max_cuts)
-          throw Error("fem: Newton did not converge from load time " + std::to_string(t) + " to " +
-                      std::to_string(t + dt) + " after " + std::to_string(P.newton.max_cuts) +
-                      " halvings of the increment");
+        if (++cuts > P.newton.max_cuts) {
+          summary.wall_seconds = seconds_since(start);
+          throw SolveError("fem: Newton did not converge from load time " + std::to_string(t) + " to " +
+                               std::to_string(t + dt) + " after " + std::to_string(P.newton.max_cuts) +
+                               " halvings of the increment (smallest J at the last converged state " +
+                               std::to_string(last_min_J) + ")",
+                           t, summary);
+        }
         dt *= 0.5;
         ++summary.cuts;
         ++cuts_since_report;
@@ -657,6 +668,7 @@ void Solver::run_quasi_static() {
     }
     t = target;
     const Report r = measure(t, u_owned, nullptr);
+    last_min_J = r.min_jacobian;
     if (cb.on_report && Utilities::MPI::this_mpi_process(comm) == 0) cb.on_report(r);
     if (cb.progress && Utilities::MPI::this_mpi_process(comm) == 0) cb.progress(t, P.report_times.back());
   }
@@ -782,7 +794,8 @@ void Solver::run_dynamic() {
   try {
     summary.time_steps = ida.solve_dae(y, ydot);
   } catch (const ExceptionBase& e) {
-    throw Error(std::string("fem: SUNDIALS IDA failed: ") + e.what());
+    summary.wall_seconds = seconds_since(start);
+    throw SolveError(std::string("fem: SUNDIALS IDA failed: ") + e.what(), 0.0, summary);
   }
 }
 

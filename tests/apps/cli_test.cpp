@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <cmath>
 #include <memory>
 
 namespace {
@@ -40,7 +41,7 @@ loading: {type: uniaxial, path: [[0, 0], [0.1, 0.05]]}
 TEST(Cli, HelpListsSubcommands) {
   const Result r = sh("--help");
   EXPECT_EQ(r.code, 0);
-  for (const char* s : {"run", "suite", "inspect"}) EXPECT_NE(r.output.find(s), std::string::npos) << s;
+  for (const char* s : {"run", "suite", "inspect", "converge"}) EXPECT_NE(r.output.find(s), std::string::npos) << s;
   EXPECT_EQ(sh("run --help").code, 0);
   EXPECT_NE(sh("").code, 0);
   EXPECT_NE(sh("frobnicate").code, 0);
@@ -87,6 +88,46 @@ TEST(Cli, BlowUpExitsOneAndKeepsTheFile) {
   EXPECT_EQ(r.code, 1) << r.output;
   EXPECT_NE(r.output.find("failed"), std::string::npos) << r.output;
   EXPECT_EQ(bench::read_results(dir.file("o.h5")).status(), "failed");
+}
+
+TEST(Cli, FemRunWritesResultsAndBothSolversRun) {
+  testing_support::TempDir dir("cli");
+  const std::string spec = std::string(TISSUEBENCH_SPECS_DIR) + "/verify_simple_shear.yaml";
+  const Result r = sh("run " + spec + " --solver fem --out " + dir.file("f.h5"));
+  EXPECT_EQ(r.code, 0) << r.output;
+  const bench::Results f = bench::read_results(dir.file("f.h5"));
+  EXPECT_EQ(f.status(), "complete");
+  EXPECT_EQ(f.meta.at("solver"), "fem");
+  EXPECT_GT(f.timing.at("dofs"), 0.0);
+  // --solver both needs a spec both solvers accept.
+  std::string both = kSpec;
+  both.replace(both.find("youngs_modulus: 5000"), 20, "youngs_modulus: 5000, poisson_ratio: 0.45");
+  std::ofstream(dir.file("both.yaml")) << both << "fem: {cells: [2, 2, 4], vtu: false}\n";
+  const Result b = sh("run " + dir.file("both.yaml") + " --solver both --out " + dir.file("both"));
+  EXPECT_EQ(b.code, 0) << b.output;
+  EXPECT_EQ(bench::read_results(dir.file("both/cli_msd.h5")).meta.at("solver"), "msd");
+  EXPECT_EQ(bench::read_results(dir.file("both/cli_fem.h5")).meta.at("solver"), "fem");
+}
+
+TEST(Cli, FemUnderMpirunMatchesSerial) {
+  // The same code on a distributed mesh over two processes.
+  testing_support::TempDir dir("cli");
+  const std::string spec = std::string(TISSUEBENCH_SPECS_DIR) + "/verify_cooks_membrane_incompressible.yaml";
+  ASSERT_EQ(sh("run " + spec + " --solver fem --out " + dir.file("serial.h5")).code, 0);
+  const std::string mpirun = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun -np 2 --oversubscribe ";
+  const std::string cmd = mpirun + TISSUEBENCH_BINARY + " run " + spec + " --solver fem --quiet --out " +
+                          dir.file("mpi.h5") + " 2>&1";
+  std::unique_ptr<FILE, int (*)(FILE*)> p(popen(cmd.c_str(), "r"), pclose);
+  std::string out;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, p.get())) out.append(buf, n);
+  ASSERT_EQ(WEXITSTATUS(pclose(p.release())), 0) << out;
+  const bench::Results s = bench::read_results(dir.file("serial.h5")), m = bench::read_results(dir.file("mpi.h5"));
+  EXPECT_DOUBLE_EQ(m.timing.at("processes"), 2.0);
+  const auto& a = s.series.at("tip_displacement");
+  const auto& b = m.series.at("tip_displacement");
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], 1e-9 * std::abs(a.back()));
 }
 
 TEST(Cli, InspectPrintsCounts) {

@@ -192,8 +192,19 @@ struct Summary {
   std::vector<std::string> vtu_files; ///< PVD record and per-frame files
 };
 
+/// A solve that failed after all retries: when it failed, and the statistics
+/// of the work done up to then.
+class SolveError : public Error {
+ public:
+  SolveError(const std::string& what, double when, Summary partial)
+      : Error(what), time(when), summary(std::move(partial)) {}
+  double time;
+  Summary summary;
+};
+
 /// Runs the problem. Throws fem::Error for bad input (before any callback) and
-/// when a solve fails after all retries (after the reports so far).
+/// fem::SolveError when a solve fails after all retries (after the reports so
+/// far).
 Summary solve(const Problem& problem, const Callbacks& callbacks);
 
 }  // namespace fem
