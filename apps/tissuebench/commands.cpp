@@ -135,11 +135,11 @@ int cmd_converge(const ConvergeArgs& args) {
   bench::write_convergence_json(st, json);
   std::printf("Refinement study of %s (Q%u), quantity %s [%s]\n", spec.name.c_str(), degree, st.quantity.c_str(),
               st.units.c_str());
-  std::printf("%6s %9s %10s %10s %14s %14s\n", "level", "cells", "dofs", "wall/s", "final value", "RMS diff");
+  std::printf("%6s %9s %10s %10s %14s %14s\n", "level", "cells", "dofs", "wall/s", "peak value", "RMS diff");
   for (size_t k = 0; k < st.levels.size(); ++k) {
     const auto& L = st.levels[k];
     std::printf("%6d %9lu %10lu %10.2f %14.8g", L.level, L.run.cells, L.run.dofs, L.run.wall_seconds,
-                L.values.empty() ? 0.0 : L.values.back());
+                bench::peak(L.values));
     if (k > 0) std::printf(" %14.4g", st.differences[k - 1]);
     std::printf("\n");
   }

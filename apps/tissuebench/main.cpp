@@ -47,7 +47,9 @@ int main(int argc, char** argv) {
   auto* converge_cmd = cli.add_subcommand(
       "converge", "Refinement study of the FEM reference: observed order and error estimate of the finest level");
   converge_cmd->add_option("spec", converge.spec, "Test specification (YAML)")->required()->check(CLI::ExistingFile);
-  converge_cmd->add_option("--levels", converge.levels, "Refinement levels to run (at least three for an order)")
+  converge_cmd->add_option("--levels", converge.levels,
+                           "Refinement levels (box, cylinder: global refinements; Cook's membrane: the spec's "
+                           "cells times 2^level); at least three for an order")
       ->delimiter(',')
       ->capture_default_str();
   converge_cmd->add_option("--degree", converge.degree, "Element degree (default: the spec's)");

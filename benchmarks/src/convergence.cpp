@@ -21,7 +21,7 @@ Spec refined_spec(const Spec& spec, int level, unsigned degree) {
     const std::array<unsigned, 3> base = spec.fem.cells.value_or(std::array<unsigned, 3>{{2, 2, 1}});
     s.fem.cells = std::array<unsigned, 3>{{base[0] << level, base[1] << level, base[2]}};
   } else {
-    s.fem.refinement = spec.fem.refinement + static_cast<unsigned>(level);
+    s.fem.refinement = static_cast<unsigned>(level);
   }
   s.fem.vtu = false;
   return s;
@@ -84,6 +84,13 @@ ConvergenceStudy run_convergence(const Spec& spec, const std::vector<int>& level
   }
   if (st.scale > 0.0) st.finest_relative_error = st.finest_error / st.scale;
   return st;
+}
+
+double peak(const std::vector<double>& v) {
+  double p = 0.0;
+  for (double x : v)
+    if (std::abs(x) > std::abs(p)) p = x;
+  return p;
 }
 
 void write_convergence_json(const ConvergenceStudy& st, const std::string& path) {

@@ -138,6 +138,37 @@ fem::Problem make_fem_problem(const Spec& spec, const std::string& vtu_directory
     p.probes = {{{0.048, 0.060, 0.0}}, {{0.048, 0.052, 0.0}}};
     p.reaction_faces = {0};
     p.report_times = report_times(spec);
+  } else if (l.type == "static") {
+    if (g.shape != "box" && g.shape != "cylinder")
+      throw msd::Error(spec.path + ": loading static needs a box or cylinder geometry");
+    const std::vector<std::string> names{"left", "right", "front", "back", "bottom", "top"};
+    auto face_id = [&](const std::string& n) {
+      return static_cast<int>(std::find(names.begin(), names.end(), n) - names.begin());
+    };
+    const int fixed_face = face_id(l.fixed);
+    if (g.shape == "cylinder" && fixed_face < 4)
+      throw msd::Error(spec.path + ": a cylinder has only bottom and top faces to fix");
+    fem::Dirichlet clamp;
+    clamp.face = fixed_face;
+    p.dirichlet = {clamp};
+    if (!l.traction_face.empty()) {
+      fem::Traction t;
+      t.face = face_id(l.traction_face);
+      t.total_force = {{l.traction.x(), l.traction.y(), l.traction.z()}};
+      t.path = path_of(spec);
+      p.tractions = {t};
+    }
+    p.gravity_path = path_of(spec);
+    // Probe: the centre of the face opposite the fixed one.
+    const std::array<double, 3> size = g.shape == "box" ? std::array<double, 3>{{g.size.x(), g.size.y(), g.size.z()}}
+                                                        : std::array<double, 3>{{0.0, 0.0, g.height}};
+    std::array<double, 3> probe = g.shape == "box" ? std::array<double, 3>{{0.5 * size[0], 0.5 * size[1], 0.5 * size[2]}}
+                                                   : std::array<double, 3>{{0.0, 0.0, 0.0}};
+    const int axis = fixed_face / 2;
+    probe[static_cast<size_t>(axis)] = (fixed_face % 2 == 0) ? size[static_cast<size_t>(axis)] : 0.0;
+    p.probes = {probe};
+    p.reaction_faces = {fixed_face};
+    p.report_times = report_times(spec);
   } else if (l.type == "vibration") {
     const double L = length_along_z(spec);
     fem::Dirichlet fixed;
@@ -192,6 +223,17 @@ Layout layout_for(const std::string& type) {
              {"load_factor", "1"},
              {"tip_displacement", "m"},
              {"mid_edge_displacement", "m"},
+             {"volume_ratio", "1"},
+             {"newton_iterations", "1"}}};
+  if (type == "static")
+    return {{{"time", "s"},
+             {"load_factor", "1"},
+             {"tip_displacement_x", "m"},
+             {"tip_displacement_y", "m"},
+             {"tip_displacement_z", "m"},
+             {"reaction_force_x", "N"},
+             {"reaction_force_y", "N"},
+             {"reaction_force_z", "N"},
              {"volume_ratio", "1"},
              {"newton_iterations", "1"}}};
   return {{{"time", "s"}, {"tip_displacement", "m"}, {"kinetic_energy", "J"}, {"volume_ratio", "1"}}};
@@ -283,6 +325,12 @@ RunSummary run_fem(const Spec& spec, const std::string& out_path, const Progress
              r.mean_cauchy[4], r.volume_ratio, static_cast<double>(r.newton_iterations)};
       s.min_stress = std::min(s.min_stress, tau);
       s.max_stress = std::max(s.max_stress, tau);
+    } else if (type == "static") {
+      const auto& d = r.probe_displacements[0];
+      const auto& f = r.reactions[0];
+      row = {r.time, path.value(r.time), d[0], d[1], d[2], f[0], f[1], f[2], r.volume_ratio,
+             static_cast<double>(r.newton_iterations)};
+      tip.push_back(d[2]);
     } else if (type == "cooks_membrane") {
       row = {r.time, path.value(r.time), r.probe_displacements[0][1], r.probe_displacements[1][1], r.volume_ratio,
              static_cast<double>(r.newton_iterations)};

@@ -260,7 +260,8 @@ std::vector<std::pair<double, double>> parse_path(const Fields& f) {
 LoadingSpec parse_loading(const Fields& f) {
   LoadingSpec l;
   l.type = f.text("type");
-  one_of(f, "type", l.type, {"uniaxial", "simple_shear", "cooks_membrane", "vibration"});
+  one_of(f, "type", l.type, {"uniaxial", "simple_shear", "cooks_membrane", "vibration", "static"});
+  const std::vector<std::string> faces{"left", "right", "front", "back", "bottom", "top"};
   if (l.type == "uniaxial") {
     f.only({"type", "platens", "path", "gravity"});
     l.platens = f.text_or("platens", l.platens);
@@ -274,6 +275,18 @@ LoadingSpec parse_loading(const Fields& f) {
   } else if (l.type == "cooks_membrane") {
     f.only({"type", "force", "path"});
     l.force = f.number("force");
+    l.path = f.has("path") ? parse_path(f) : std::vector<std::pair<double, double>>{{0.0, 0.0}, {1.0, 1.0}};
+  } else if (l.type == "static") {
+    f.only({"type", "fixed", "traction", "gravity", "path"});
+    l.fixed = f.text_or("fixed", l.fixed);
+    one_of(f, "fixed", l.fixed, faces);
+    if (auto t = f.optional_section("traction")) {
+      t->only({"face", "force"});
+      l.traction_face = t->text("face");
+      one_of(*t, "face", l.traction_face, faces);
+      l.traction = vec3(*t, "force");
+      if (l.traction_face == l.fixed) throw msd::Error(t->where("face") + "the traction face is the fixed face");
+    }
     l.path = f.has("path") ? parse_path(f) : std::vector<std::pair<double, double>>{{0.0, 0.0}, {1.0, 1.0}};
   } else {
     f.only({"type", "initial", "amplitude", "duration", "gravity"});

@@ -352,7 +352,7 @@ Solver::Assembled Solver::assemble(const LA::MPI::Vector& u, double t, const Aff
   std::vector<unsigned> comp(n);
   for (unsigned a = 0; a < n; ++a) comp[a] = fe.system_to_component_index(a).first;
   const FEValuesExtractors::Vector disp(0);
-  const double mu = P.material.mu, kappa = P.material.kappa, rho = P.material.density;
+  const double mu = P.material.mu, kappa = P.material.kappa, rho = P.material.density * P.gravity_path(t);
   const bool three_field = P.formulation == Formulation::ThreeField;
   AffineConstraints<double> none;
   none.close();

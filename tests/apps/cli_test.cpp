@@ -1,6 +1,7 @@
 // The tissuebench program from the outside: help, exit codes, messages, and
 // that bad input leaves nothing behind.
 #include "bench/results_file.hpp"
+#include "msd/geometry/triangle_mesh.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -128,6 +129,47 @@ TEST(Cli, FemUnderMpirunMatchesSerial) {
   const auto& b = m.series.at("tip_displacement");
   ASSERT_EQ(a.size(), b.size());
   for (size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], 1e-9 * std::abs(a.back()));
+}
+
+TEST(Cli, FemBadInputAndFailedSolves) {
+  testing_support::TempDir dir("cli");
+  // An unsupported request: an OBJ surface for the fem solver.
+  msd::write_obj(dir.file("c.obj"), msd::make_cylinder(0.02, 0.04, 16));
+  std::string obj = kSpec;
+  const std::string box = "{shape: box, size: [0.02, 0.02, 0.04]}";
+  obj.replace(obj.find(box), box.size(), "{shape: obj, file: c.obj}");
+  obj.replace(obj.find("youngs_modulus: 5000"), 20, "youngs_modulus: 5000, poisson_ratio: 0.45");
+  std::ofstream(dir.file("obj.yaml")) << obj;
+  Result r = sh("run " + dir.file("obj.yaml") + " --solver fem --out " + dir.file("obj.h5"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("not supported by the fem solver"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("obj.h5")));
+  // An unphysical material: nu = 0.5.
+  std::string nu = kSpec;
+  nu.replace(nu.find("youngs_modulus: 5000"), 20, "youngs_modulus: 5000, poisson_ratio: 0.5");
+  std::ofstream(dir.file("nu.yaml")) << nu;
+  r = sh("run " + dir.file("nu.yaml") + " --solver fem --out " + dir.file("nu.h5"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("material.poisson_ratio"), std::string::npos) << r.output;
+  // A material the fem cannot use (no Poisson ratio).
+  std::ofstream(dir.file("e.yaml")) << kSpec;
+  r = sh("run " + dir.file("e.yaml") + " --solver fem --out " + dir.file("e.h5"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("poisson_ratio"), std::string::npos) << r.output;
+  // A Newton solve that cannot converge: 95 % compression in one increment with
+  // no halving allowed. The run says when, exits 1 and keeps a failed file.
+  std::ofstream(dir.file("hard.yaml"))
+      << "name: hard\ngeometry: {shape: box, size: [0.02, 0.02, 0.04]}\n"
+      << "material: {density: 1000, youngs_modulus: 5000, poisson_ratio: 0.45}\n"
+      << "fem: {cells: [1, 1, 2], max_cuts: 0, max_iterations: 5, vtu: true}\n"
+      << "loading: {type: uniaxial, platens: bonded, path: [[0, 0], [1, -0.95]]}\noutput: {interval: 1}\n";
+  r = sh("run " + dir.file("hard.yaml") + " --solver fem --out " + dir.file("hard.h5"));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("did not converge from load time 0"), std::string::npos) << r.output;
+  const bench::Results h = bench::read_results(dir.file("hard.h5"));
+  EXPECT_EQ(h.status(), "failed");
+  EXPECT_EQ(h.series.at("time").size(), 1u);  // the reference state only
+  EXPECT_TRUE(std::filesystem::exists(dir.file("hard_vtu/hard.pvd")));
 }
 
 TEST(Cli, InspectPrintsCounts) {

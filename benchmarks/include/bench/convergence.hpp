@@ -35,13 +35,17 @@ struct ConvergenceStudy {
   double finest_relative_error = 0.0;  ///< finest_error / scale
 };
 
-/// The spec at a refinement level: boxes and cylinders get `level` more global
-/// refinements, Cook's membrane 2^level times the coarse cells per side.
+/// The spec at a refinement level: boxes and cylinders get `level` global
+/// refinements of their coarse mesh, Cook's membrane 2^level times the spec's
+/// coarse cells per side.
 Spec refined_spec(const Spec& spec, int level, unsigned degree);
 
 /// Runs the levels (each writes OUT_DIR/NAME_pP_lL.h5). Throws if a level fails.
 ConvergenceStudy run_convergence(const Spec& spec, const std::vector<int>& levels, unsigned degree,
                                  const std::string& out_dir, const Progress& progress = {});
+
+/// The value of largest magnitude (0 for an empty series).
+double peak(const std::vector<double>& values);
 
 /// Writes the study as JSON (stable keys, documented in benchmarks/RESULTS.md).
 void write_convergence_json(const ConvergenceStudy& study, const std::string& path);

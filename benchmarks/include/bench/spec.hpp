@@ -73,11 +73,15 @@ struct FemSpec {
 };
 
 struct LoadingSpec {
-  /// uniaxial | simple_shear | cooks_membrane | vibration
+  /// uniaxial | simple_shear | cooks_membrane | vibration | static
   std::string type = "uniaxial";
+  std::string fixed = "bottom";           ///< static: the clamped face
+  std::string traction_face;              ///< static: face carrying `traction` (empty: none)
+  Eigen::Vector3d traction{Eigen::Vector3d::Zero()};  ///< static: total force, N
   std::string platens = "bonded";         ///< uniaxial: bonded | frictionless
   /// (time s, value): nominal strain (uniaxial), shear strain gamma
-  /// (simple_shear), load factor (cooks_membrane).
+  /// (simple_shear), load factor (cooks_membrane, static: scales the traction
+  /// and gravity).
   std::vector<std::pair<double, double>> path;
   double force = 0.0;                     ///< cooks_membrane: total shear force, N
   std::string initial = "axial_mode";     ///< vibration: axial_mode | axial_stretch

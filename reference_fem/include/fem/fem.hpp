@@ -128,6 +128,7 @@ struct Problem {
   std::vector<Pin> pins;
   bool plane_strain = false;               ///< u_z = 0 everywhere
   std::array<double, 3> gravity{{0, 0, 0}};
+  Path gravity_path;                       ///< scales gravity with the load time (default 1)
   LinearSolver linear_solver = LinearSolver::Direct;
   NewtonSettings newton;
   /// Quasi-static: the load parameter values ("times") at which to report;
