@@ -534,6 +534,9 @@ bool Solver::newton_increment(double t0, double t1, unsigned& iterations) {
   LA::MPI::Vector u(owned, comm), du(owned, comm), trial(owned, comm), u_ghost(owned, relevant, comm);
   u = u_owned;
   const AffineConstraints<double> first = make_constraints(t0, t1, true);
+  // Whether the Dirichlet data move must be decided alike on every process
+  // (each holds only the constraints of its own part of the mesh).
+  const bool moving = Utilities::MPI::max(first.has_inhomogeneities() ? 1 : 0, comm) == 1;
   const double floor = 1e-3 * P.material.mu * std::pow(reference_volume, 2.0 / 3.0);
   const bool debug = std::getenv("TB_FEM_DEBUG") != nullptr;
   auto evaluate = [&](const LA::MPI::Vector& at, bool matrix, const AffineConstraints<double>& c) {
@@ -545,7 +548,7 @@ bool Solver::newton_increment(double t0, double t1, unsigned& iterations) {
   // The tangent factorised in the previous increment is reused when there is
   // one (modified Newton across increments; the line search and the refresh
   // rule below take over if it has gone stale).
-  if (first.has_inhomogeneities()) {
+  if (moving) {
     if (!evaluate(u, true, first).valid) return false;  // the matrix enters the rhs correction
     du = 0.0;
     try {
@@ -563,7 +566,7 @@ bool Solver::newton_increment(double t0, double t1, unsigned& iterations) {
   Assembled now = evaluate(u, false, zero_constraints);
   if (!now.valid) return false;
   double res = rhs.l2_norm(), last_du = 1e300, energy = potential(now, u);
-  bool fresh = false, refresh = !first.has_inhomogeneities();
+  bool fresh = false, refresh = !moving;
   for (unsigned it = 1; it <= P.newton.max_iterations; ++it) {
     const double scale = std::max({f_int_full.l2_norm(), f_ext_full.l2_norm(), floor});
     const double u_scale = std::max(u.l2_norm(), 1e-3 * length);
