@@ -24,7 +24,7 @@ def main(argv):
         f = h["fields"]
         X = f["surface_points"][()]
         T = f["surface_triangles"][()]
-        times = f["frame_time"][()]
+        times = f["surface_time"][()]
         U = f["surface_displacement"]
         wanted = [float(t) for t in argv[3:]] or [times[0], times[-1]]
         frames = [int(np.argmin(np.abs(times - t))) for t in wanted]

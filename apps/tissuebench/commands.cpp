@@ -2,6 +2,7 @@
 
 #include "progress.hpp"
 
+#include "bench/compare.hpp"
 #include "bench/convergence.hpp"
 #include "bench/fem_runner.hpp"
 #include "bench/msd_runner.hpp"
@@ -94,7 +95,24 @@ int cmd_run(const RunArgs& args) {
   fem_progress.done();
   const int a = root() ? report(spec, m) : 0;
   const int b = report(spec, f);
+  if (a == 0 && b == 0 && root()) {
+    const bench::Comparison c = bench::compare_results(m.out_path, f.out_path);
+    const std::string json = (fs::path(args.out) / (spec.name + "_compare.json")).string();
+    bench::write_comparison_json(c, json);
+    std::printf("%scomparison: %s\n", bench::format_comparison(c).c_str(), json.c_str());
+  }
   return std::max(a, b);
+}
+
+int cmd_compare(const CompareArgs& args) {
+  if (!root()) return 0;
+  const bench::Comparison c = bench::compare_results(args.msd, args.fem);
+  std::printf("%s", bench::format_comparison(c).c_str());
+  if (!args.json.empty()) {
+    bench::write_comparison_json(c, args.json);
+    std::printf("comparison: %s\n", args.json.c_str());
+  }
+  return 0;
 }
 
 int cmd_suite(const SuiteArgs& args) {
@@ -158,8 +176,10 @@ int cmd_inspect(const InspectArgs& args) {
               p.sample.grid.ny, p.sample.grid.nz, p.sample.grid.spacing, spec.mesh->rule.c_str());
   std::printf("mesh          %ld cubes, %d tets, %d nodes, min quality %.3f\n", p.sample.cubes,
               p.model.num_elements(), p.model.num_nodes(), msd::min_quality(p.sample.mesh));
-  std::printf("sample        l0 = %g m, A0 = %g m^2, V0 = %g m^3, mass = %g kg\n", p.setup.length,
-              p.setup.area, p.setup.volume, p.model.mass.sum());
+  std::printf("sample        size %g m, V0 = %g m^3, mass = %g kg, loading %s\n", p.size,
+              msd::total_volume(p.model.rest_positions, p.sample.mesh.tets), p.model.mass.sum(), p.loading.c_str());
+  if (p.loading == "uniaxial" || p.loading == "simple_shear")
+    std::printf("platens       l0 = %g m, A0 = %g m^2\n", p.platens.length, p.platens.area);
   std::printf("terms         %s, threshold %s\n", msd::force_terms_to_string(p.model.terms).c_str(),
               p.model.nonlinear_threshold > 0 ? std::to_string(p.model.nonlinear_threshold).c_str() : "off");
   for (const auto& [k, v] : bench::material_record(spec, p.model)) std::printf("  %-20s %g\n", k.c_str(), v);

@@ -33,6 +33,11 @@ struct ConvergeArgs {
 };
 int cmd_converge(const ConvergeArgs& args);
 
+struct CompareArgs {
+  std::string msd, fem, json;
+};
+int cmd_compare(const CompareArgs& args);
+
 /// The specs of the default suite (the thesis' three uni-axial experiments).
 std::vector<std::string> default_suite();
 

@@ -57,6 +57,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   converge_cmd->add_flag("--quiet", converge.quiet, "No progress line");
 
+  app::CompareArgs compare;
+  auto* compare_cmd = cli.add_subcommand("compare", "Compare an MSD results file with an FEM one of the same spec");
+  compare_cmd->add_option("msd", compare.msd, "MSD results file (HDF5)")->required()->check(CLI::ExistingFile);
+  compare_cmd->add_option("fem", compare.fem, "FEM results file (HDF5)")->required()->check(CLI::ExistingFile);
+  compare_cmd->add_option("--json", compare.json, "Write the metrics as JSON (keys: benchmarks/RESULTS.md)");
+
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -67,6 +73,7 @@ int main(int argc, char** argv) {
     if (*suite_cmd) return app::cmd_suite(suite);
     if (*inspect_cmd) return app::cmd_inspect(inspect);
     if (*converge_cmd) return app::cmd_converge(converge);
+    if (*compare_cmd) return app::cmd_compare(compare);
   } catch (const msd::Error& e) {
     if (fem::Session::rank() == 0) std::cerr << "tissuebench: error: " << e.what() << "\n";
     return 2;

@@ -67,7 +67,7 @@ fem::Problem make_fem_problem(const Spec& spec, const std::string& vtu_directory
   p.gravity = {{spec.loading.gravity.x(), spec.loading.gravity.y(), spec.loading.gravity.z()}};
   p.vtu_directory = vtu_directory;
   p.vtu_basename = spec.name;
-  p.fields_interval = f.fields_interval;
+  p.fields_interval = spec.output.fields_interval;
 
   // Geometry and coarse mesh: by default about mesh.spacing (or 1 cm) per cell.
   const GeometrySpec& g = spec.geometry;
@@ -114,8 +114,11 @@ fem::Problem make_fem_problem(const Spec& spec, const std::string& vtu_directory
     p.report_times = report_times(spec);
   } else if (l.type == "simple_shear") {
     if (g.shape != "box") throw msd::Error(spec.path + ": simple_shear needs a box geometry");
-    // u = gamma(t) Z e_x on the whole boundary: homogeneous simple shear.
-    for (int face = 0; face < 6; ++face) {
+    // homogeneous: u = gamma(t) Z e_x on the whole boundary (exactly simple
+    // shear); platens: bottom held, top moved along x by gamma H, sides free.
+    const std::vector<int> faces = l.boundary == "homogeneous" ? std::vector<int>{0, 1, 2, 3, 4, 5}
+                                                                : std::vector<int>{4, 5};
+    for (int face : faces) {
       fem::Dirichlet d;
       d.face = face;
       d.gradient[0][2] = 1.0;
@@ -187,6 +190,13 @@ fem::Problem make_fem_problem(const Spec& spec, const std::string& vtu_directory
     p.probes = {g.shape == "box" ? std::array<double, 3>{{0.5 * g.size.x(), 0.5 * g.size.y(), L}}
                                  : std::array<double, 3>{{0.0, 0.0, L}}};
     p.reaction_faces = {4};
+  }
+  // With an msd grid in the spec, evaluate the solution at the msd nodes' rest
+  // positions too, for the displacement-field comparison.
+  if (spec.mesh && spec.msd && l.type != "cooks_membrane") {
+    const msd::SampleMesh sample = make_sample_mesh(spec);
+    for (int n = 0; n < sample.mesh.num_nodes(); ++n)
+      p.field_probes.push_back({{sample.mesh.nodes(0, n), sample.mesh.nodes(1, n), sample.mesh.nodes(2, n)}});
   }
   return p;
 }
@@ -293,15 +303,25 @@ RunSummary run_fem(const Spec& spec, const std::string& out_path, const Progress
   s.min_strain = s.min_stress = s.min_volume_ratio = 1e300;
   s.max_strain = s.max_stress = s.max_volume_ratio = -1e300;
   std::vector<double> times, tip;
+  bool probes_started = false;
   const msd::LoadingPath path(spec.loading.path, spec.path + ": loading.path");
   fem::Callbacks cb;
   cb.progress = progress;
   cb.on_surface = [&](const fem::Surface& surf) {
     open_writer();
-    if (writer) writer->write_surface(surf.points, surf.triangles);
+    std::vector<std::vector<int>> tris;
+    for (const auto& t : surf.triangles) tris.push_back({t[0], t[1], t[2]});
+    if (writer) writer->add_point_set("surface", surf.points, tris);
   };
   cb.on_frame = [&](double t, const std::vector<std::array<double, 3>>& d) {
-    if (writer) writer->append_frame(t, d);
+    if (writer) writer->append_frame("surface", t, d);
+  };
+  cb.on_probe_frame = [&](double t, const std::vector<std::array<double, 3>>& d) {
+    open_writer();
+    if (!writer) return;
+    if (!probes_started) writer->add_point_set("probes", problem.field_probes);
+    probes_started = true;
+    writer->append_frame("probes", t, d);
   };
   cb.on_report = [&](const fem::Report& r) {
     open_writer();

@@ -1,6 +1,7 @@
 #include "bench/msd_runner.hpp"
 
 #include "bench/results_file.hpp"
+#include "bench/signal_analysis.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -11,9 +12,11 @@ namespace bench {
 const MsdSpec& msd_section(const Spec& spec) {
   if (!spec.msd || !spec.mesh)
     throw msd::Error(spec.path + ": the msd solver needs 'mesh' and 'msd' sections in the spec");
-  if (spec.loading.type != "uniaxial")
-    throw msd::Error(spec.path + ": loading.type '" + spec.loading.type +
-                     "' is not supported by the msd solver yet (supported: uniaxial)");
+  const std::string& t = spec.loading.type;
+  if (t == "cooks_membrane")
+    throw msd::Error(spec.path + ": loading.type 'cooks_membrane' is a plane-strain benchmark for the fem solver only");
+  if (t == "simple_shear" && spec.loading.boundary != "platens")
+    throw msd::Error(spec.path + ": loading.boundary 'homogeneous' is for the fem solver only (msd shears between platens)");
   return *spec.msd;
 }
 
@@ -66,16 +69,63 @@ msd::TissueMaterial make_material(const Spec& spec) {
 
 MsdProblem compile_msd(const Spec& spec) {
   const MsdSpec& ms = msd_section(spec);
-  MsdProblem p{make_sample_mesh(spec), {}, {}, msd::LoadingPath(spec.loading.path, spec.path + ": loading.path"), {}};
+  const LoadingSpec& l = spec.loading;
+  // Paths: strain (uniaxial), shear strain (simple_shear), load factor (static);
+  // vibration holds its loads (gravity, if any) at factor 1.
+  std::vector<std::pair<double, double>> path = l.path;
+  if (l.type == "vibration") path = {{0.0, 1.0}, {l.duration, 1.0}};
+  MsdProblem p{make_sample_mesh(spec), {}, msd::LoadingPath(path, spec.path + ": loading.path"), {}, l.type,
+               {}, {}, {}, 0.0, {}};
   msd::ModelOptions o;
   o.terms = 0;
   for (const auto& t : ms.terms) o.terms |= msd::parse_force_term(t);
-  if (spec.loading.gravity.squaredNorm() > 0.0) o.terms |= msd::kGravity;
-  o.gravity = spec.loading.gravity;
+  if (l.gravity.squaredNorm() > 0.0) o.terms |= msd::kGravity;
+  o.gravity = l.gravity;
   o.nonlinear_threshold = ms.nonlinear_threshold;
   o.region_materials.assign(1, make_material(spec));
-  p.setup = msd::add_platens(p.sample.mesh, msd::parse_platen_contact(spec.loading.platens), o);
-  p.model = msd::build_model(p.sample.mesh, o);
+  const msd::TetMesh& mesh = p.sample.mesh;
+  const Eigen::Vector3d lo = mesh.nodes.rowwise().minCoeff(), hi = mesh.nodes.rowwise().maxCoeff();
+  p.size = (hi - lo).maxCoeff();
+  if (l.type == "uniaxial") {
+    p.platens = msd::add_platens(mesh, msd::parse_platen_contact(l.platens), o);
+    p.columns = {{"time", "s"},        {"strain", "1"},         {"nominal_stress", "Pa"},
+                 {"volume_ratio", "1"}, {"inverted_elements", "1"}, {"lateral_force", "N"},
+                 {"kinetic_energy", "J"}, {"nonlinear_active_elements", "1"}};
+  } else if (l.type == "simple_shear") {
+    p.platens = msd::add_platens(mesh, msd::PlatenContact::Bonded, o);
+    p.columns = {{"time", "s"},          {"shear_strain", "1"},     {"shear_stress", "Pa"},
+                 {"normal_stress_zz", "Pa"}, {"volume_ratio", "1"}, {"inverted_elements", "1"},
+                 {"kinetic_energy", "J"}};
+  } else if (l.type == "static") {
+    p.clamp = msd::add_clamp(mesh, msd::parse_face(l.fixed), o);
+    if (!l.traction_face.empty())
+      o.external_force = msd::face_load(mesh, msd::face_nodes(mesh, msd::parse_face(l.traction_face)), l.traction);
+    p.columns = {{"time", "s"},
+                 {"load_factor", "1"},
+                 {"tip_displacement_x", "m"},
+                 {"tip_displacement_y", "m"},
+                 {"tip_displacement_z", "m"},
+                 {"reaction_force_x", "N"},
+                 {"reaction_force_y", "N"},
+                 {"reaction_force_z", "N"},
+                 {"volume_ratio", "1"},
+                 {"inverted_elements", "1"},
+                 {"kinetic_energy", "J"}};
+  } else if (l.type == "vibration") {
+    p.clamp = msd::add_clamp(mesh, msd::Face::Bottom, o);
+    p.columns = {{"time", "s"}, {"tip_displacement", "m"}, {"kinetic_energy", "J"}, {"volume_ratio", "1"},
+                 {"inverted_elements", "1"}};
+  } else {
+    throw msd::Error(spec.path + ": loading.type '" + l.type + "' is not supported by the msd solver");
+  }
+  p.model = msd::build_model(mesh, o);
+  p.initial = l.type == "vibration" ? msd::displaced_state(p.model, l.initial == "axial_mode", l.amplitude)
+                                    : msd::rest_state(p.model);
+  if (l.type == "vibration") {
+    // The clamped base must start at rest with the field it prescribes (zero).
+    for (int n : p.model.groups.at(static_cast<size_t>(p.clamp.clamp_group)).nodes)
+      p.initial.x.col(n) = p.model.rest_positions.col(n);
+  }
   p.stepping.dt = ms.dt;
   p.stepping.integrator = msd::parse_integrator(ms.integrator);
   p.stepping.output_interval = spec.output.interval;
@@ -83,6 +133,42 @@ MsdProblem compile_msd(const Spec& spec) {
     throw msd::Error(spec.path + ": output.interval (" + std::to_string(spec.output.interval) +
                      " s) is shorter than msd.dt (" + std::to_string(ms.dt) + " s)");
   return p;
+}
+
+msd::ExperimentHooks msd_hooks(const MsdProblem& p, const std::function<bool(const std::vector<double>&)>& row,
+                               const std::function<void(const msd::State&)>& frame) {
+  msd::ExperimentHooks h;
+  if (p.loading == "uniaxial") {
+    h.controls = [&p](double t) { return msd::uniaxial_controls(p.model, p.platens, p.path, t); };
+    h.sample = [&p, row, frame](const msd::State& st, msd::Scratch& sc) {
+      if (frame) frame(st);
+      const msd::UniaxialSample x = msd::measure_uniaxial(p.model, p.platens, st, sc);
+      return row({x.time, x.strain, x.nominal_stress, x.volume_ratio, static_cast<double>(x.inverted_elements),
+                  x.lateral_force, x.kinetic_energy, static_cast<double>(x.nonlinear_active)});
+    };
+  } else if (p.loading == "simple_shear") {
+    h.controls = [&p](double t) { return msd::shear_controls(p.model, p.platens, p.path, t); };
+    h.sample = [&p, row, frame](const msd::State& st, msd::Scratch& sc) {
+      if (frame) frame(st);
+      const msd::ShearSample x = msd::measure_shear(p.model, p.platens, st, sc);
+      return row({x.time, x.shear_strain, x.shear_stress, x.normal_stress, x.volume_ratio,
+                  static_cast<double>(x.inverted_elements), x.kinetic_energy});
+    };
+  } else {
+    h.controls = [&p](double t) { return msd::clamp_controls(p.model, p.path, t); };
+    const bool vib = p.loading == "vibration";
+    h.sample = [&p, row, vib, frame](const msd::State& st, msd::Scratch& sc) {
+      if (frame) frame(st);
+      const msd::ClampSample x = msd::measure_clamp(p.model, p.clamp, p.path, st, sc);
+      if (vib)
+        return row({x.time, x.probe_displacement.z(), x.kinetic_energy, x.volume_ratio,
+                    static_cast<double>(x.inverted_elements)});
+      return row({x.time, x.load_factor, x.probe_displacement.x(), x.probe_displacement.y(), x.probe_displacement.z(),
+                  x.reaction.x(), x.reaction.y(), x.reaction.z(), x.volume_ratio,
+                  static_cast<double>(x.inverted_elements), x.kinetic_energy});
+    };
+  }
+  return h;
 }
 
 std::vector<std::pair<std::string, double>> material_record(const Spec& spec,
@@ -132,22 +218,15 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
                {"integrator", msd::to_string(p.stepping.integrator)},
                {"mass_lumping", ms.mass_lumping},
                {"mesh_rule", spec.mesh->rule},
-               {"test", spec.loading.type + " (" + spec.loading.platens + " platens)"}};
-  ResultsWriter out(out_path, meta,
-                    {{"time", "s"},
-                     {"strain", "1"},
-                     {"nominal_stress", "Pa"},
-                     {"volume_ratio", "1"},
-                     {"inverted_elements", "1"},
-                     {"lateral_force", "N"},
-                     {"kinetic_energy", "J"},
-                     {"nonlinear_active_elements", "1"}});
+               {"test", spec.loading.type + (spec.loading.type == "uniaxial" ? " (" + spec.loading.platens + " platens)" : "")}};
+  ResultsWriter out(out_path, meta, p.columns);
   out.set_meta("mesh_counts", "nodes " + std::to_string(p.model.num_nodes()) + ", tets " +
                                   std::to_string(p.model.num_elements()) + ", cubes " +
                                   std::to_string(p.sample.cubes));
 
   RunSummary s;
   s.name = spec.name;
+  s.loading = spec.loading.type;
   s.out_path = out_path;
   s.nodes = p.model.num_nodes();
   s.tets = p.model.num_elements();
@@ -158,24 +237,57 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
   s.max_volume_ratio = -1e300;
   const auto start = std::chrono::steady_clock::now();
   const double end = p.path.end_time();
+  // Column positions of the summary quantities, where the loading has them.
+  auto column = [&](const char* name) {
+    for (size_t k = 0; k < p.columns.size(); ++k)
+      if (p.columns[k].name == name) return static_cast<int>(k);
+    return -1;
+  };
+  const int c_strain = column(p.loading == "simple_shear" ? "shear_strain" : "strain");
+  const int c_stress = column(p.loading == "simple_shear" ? "shear_stress" : "nominal_stress");
+  const int c_volume = column("volume_ratio"), c_inverted = column("inverted_elements");
+  std::vector<double> times, tip;
+  // /fields: every node's displacement at the field frames.
+  {
+    std::vector<std::array<double, 3>> pts;
+    for (int n = 0; n < p.model.num_nodes(); ++n)
+      pts.push_back({{p.model.rest_positions(0, n), p.model.rest_positions(1, n), p.model.rest_positions(2, n)}});
+    std::vector<std::vector<int>> tets;
+    for (const auto& t : p.sample.mesh.tets) tets.push_back({t[0], t[1], t[2], t[3]});
+    out.add_point_set("nodes", pts, tets);
+  }
+  double next_frame = 0.0;
+  const auto frame = [&](const msd::State& st) {
+    if (st.t < next_frame - 1e-9 * p.stepping.dt) return;
+    std::vector<std::array<double, 3>> d(static_cast<size_t>(p.model.num_nodes()));
+    for (int n = 0; n < p.model.num_nodes(); ++n)
+      for (int c = 0; c < 3; ++c) d[static_cast<size_t>(n)][static_cast<size_t>(c)] = st.x(c, n) - p.model.rest_positions(c, n);
+    out.append_frame("nodes", st.t, d);
+    next_frame = st.t + spec.output.fields_interval;
+  };
   msd::RunStats stats;
   try {
-    stats = msd::run_uniaxial(p.model, p.setup, p.path, p.stepping,
-                              [&](const msd::UniaxialSample& x, const msd::State&) {
-                                out.append({x.time, x.strain, x.nominal_stress, x.volume_ratio,
-                                            static_cast<double>(x.inverted_elements), x.lateral_force,
-                                            x.kinetic_energy, static_cast<double>(x.nonlinear_active)});
-                                s.min_strain = std::min(s.min_strain, x.strain);
-                                s.max_strain = std::max(s.max_strain, x.strain);
-                                s.min_stress = std::min(s.min_stress, x.nominal_stress);
-                                s.max_stress = std::max(s.max_stress, x.nominal_stress);
-                                s.min_volume_ratio = std::min(s.min_volume_ratio, x.volume_ratio);
-                                s.max_volume_ratio = std::max(s.max_volume_ratio, x.volume_ratio);
-                                s.max_inverted = std::max(s.max_inverted, x.inverted_elements);
-                                s.simulated_seconds = x.time;
-                                if (progress) progress(x.time, end);
-                                return true;
-                              });
+    const msd::ExperimentHooks hooks = msd_hooks(p, [&](const std::vector<double>& r) {
+      out.append(r);
+      auto track = [&](int c, double& lo, double& hi) {
+        if (c >= 0) {
+          lo = std::min(lo, r[static_cast<size_t>(c)]);
+          hi = std::max(hi, r[static_cast<size_t>(c)]);
+        }
+      };
+      track(c_strain, s.min_strain, s.max_strain);
+      track(c_stress, s.min_stress, s.max_stress);
+      track(c_volume, s.min_volume_ratio, s.max_volume_ratio);
+      if (c_inverted >= 0) s.max_inverted = std::max(s.max_inverted, static_cast<int>(r[static_cast<size_t>(c_inverted)]));
+      if (p.loading == "vibration") {
+        times.push_back(r[0]);
+        tip.push_back(r[1]);
+      }
+      s.simulated_seconds = r[0];
+      if (progress) progress(r[0], end);
+      return true;
+    }, frame);
+    stats = msd::run_experiment(p.model, p.initial, end, p.size, p.stepping, hooks);
     s.complete = true;
   } catch (const msd::SimulationFailure& f) {
     s.failure = f.what();
@@ -183,6 +295,13 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
   }
   s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (s.complete) s.steps = stats.steps;
+  if (p.loading == "vibration") {
+    const RingDown rd = analyse_ring_down(times, tip);
+    s.highlights = {{"f1_Hz", rd.frequency}, {"zeta", rd.damping_ratio}};
+    out.set_metric("first_frequency", rd.frequency);
+    out.set_metric("damping_ratio", rd.damping_ratio);
+    out.set_metric("zero_crossings", rd.crossings);
+  }
   out.set_timing(s.wall_seconds, s.steps, p.stepping.dt, 1);
   if (s.complete) out.finish();
   else out.fail(s.failure);

@@ -131,8 +131,10 @@ ResultsWriter::~ResultsWriter() {
   } catch (...) {
   }
   for (hid_t d : datasets_) H5Dclose(d);
-  if (frame_time_ >= 0) H5Dclose(frame_time_);
-  if (frame_disp_ >= 0) H5Dclose(frame_disp_);
+  for (auto& [name, set] : sets_) {
+    if (set.time >= 0) H5Dclose(set.time);
+    if (set.displacement >= 0) H5Dclose(set.displacement);
+  }
   if (fields_ >= 0) H5Gclose(fields_);
   if (metrics_ >= 0) H5Gclose(metrics_);
   if (timing_ >= 0) H5Gclose(timing_);
@@ -192,71 +194,88 @@ void ResultsWriter::set_metric(const std::string& key, double value) {
   write_number_attr(metrics_, key, value, path_);
 }
 
-void ResultsWriter::write_surface(const std::vector<std::array<double, 3>>& points,
-                                  const std::vector<std::array<int, 3>>& triangles) {
-  if (fields_ >= 0) throw msd::Error(path_ + ": the surface of /fields is written once");
-  fields_ = check_id(H5Gcreate2(file_, "fields", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "creating /fields", path_);
-  surface_points_ = static_cast<long>(points.size());
-  auto write2d = [&](const char* name, hid_t type, hid_t mem, const void* data, hsize_t rows) {
-    const hsize_t dims[2] = {rows, 3};
+void ResultsWriter::add_point_set(const std::string& name, const std::vector<std::array<double, 3>>& points,
+                                  const std::vector<std::vector<int>>& cells) {
+  if (sets_.count(name)) throw msd::Error(path_ + ": /fields point set '" + name + "' written twice");
+  if (fields_ < 0)
+    fields_ = check_id(H5Gcreate2(file_, "fields", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "creating /fields", path_);
+  PointSet set;
+  set.points = static_cast<long>(points.size());
+  auto write2d = [&](const std::string& ds_name, hid_t type, hid_t mem, const void* data, hsize_t rows,
+                     hsize_t width) {
+    const hsize_t dims[2] = {rows, width};
     const hid_t space = H5Screate_simple(2, dims, nullptr);
-    const hid_t ds = check_id(H5Dcreate2(fields_, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                              std::string("creating /fields/") + name, path_);
+    const hid_t ds = check_id(
+        H5Dcreate2(fields_, ds_name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+        "creating /fields/" + ds_name, path_);
     if (rows > 0) check(H5Dwrite(ds, mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "writing /fields", path_);
     H5Dclose(ds);
     H5Sclose(space);
   };
-  write2d("surface_points", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, points.data(), points.size());
-  write2d("surface_triangles", H5T_STD_I32LE, H5T_NATIVE_INT, triangles.data(), triangles.size());
+  write2d(name + "_points", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, points.data(), points.size(), 3);
+  if (!cells.empty()) {
+    const size_t width = cells.front().size();
+    std::vector<int> flat;
+    for (const auto& c : cells) {
+      if (c.size() != width) throw msd::Error(path_ + ": cells of mixed sizes in /fields/" + name);
+      flat.insert(flat.end(), c.begin(), c.end());
+    }
+    write2d(name + (width == 3 ? "_triangles" : "_tets"), H5T_STD_I32LE, H5T_NATIVE_INT, flat.data(), cells.size(),
+            width);
+  }
   const hsize_t d1[1] = {0}, m1[1] = {H5S_UNLIMITED}, c1[1] = {64};
-  const hsize_t d3[3] = {0, static_cast<hsize_t>(points.size()), 3};
-  const hsize_t m3[3] = {H5S_UNLIMITED, static_cast<hsize_t>(points.size()), 3};
-  const hsize_t c3[3] = {1, std::max<hsize_t>(1, points.size()), 3};
+  const hsize_t n = static_cast<hsize_t>(points.size());
+  const hsize_t d3[3] = {0, n, 3}, m3[3] = {H5S_UNLIMITED, n, 3}, c3[3] = {1, std::max<hsize_t>(1, n), 3};
   hid_t space = H5Screate_simple(1, d1, m1), props = H5Pcreate(H5P_DATASET_CREATE);
   H5Pset_chunk(props, 1, c1);
-  frame_time_ = check_id(H5Dcreate2(fields_, "frame_time", H5T_IEEE_F64LE, space, H5P_DEFAULT, props, H5P_DEFAULT),
-                         "creating /fields/frame_time", path_);
+  set.time = check_id(H5Dcreate2(fields_, (name + "_time").c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, props,
+                                 H5P_DEFAULT),
+                      "creating /fields/" + name + "_time", path_);
   H5Pclose(props);
   H5Sclose(space);
   space = H5Screate_simple(3, d3, m3);
   props = H5Pcreate(H5P_DATASET_CREATE);
   H5Pset_chunk(props, 3, c3);
-  frame_disp_ = check_id(H5Dcreate2(fields_, "surface_displacement", H5T_IEEE_F64LE, space, H5P_DEFAULT, props,
-                                    H5P_DEFAULT),
-                         "creating /fields/surface_displacement", path_);
-  write_text_attr(frame_disp_, "units", "m", path_);
+  set.displacement = check_id(H5Dcreate2(fields_, (name + "_displacement").c_str(), H5T_IEEE_F64LE, space,
+                                         H5P_DEFAULT, props, H5P_DEFAULT),
+                              "creating /fields/" + name + "_displacement", path_);
+  write_text_attr(set.displacement, "units", "m", path_);
   H5Pclose(props);
   H5Sclose(space);
+  sets_[name] = set;
 }
 
-void ResultsWriter::append_frame(double time, const std::vector<std::array<double, 3>>& displacement) {
-  if (frame_disp_ < 0) throw msd::Error(path_ + ": append_frame before write_surface");
-  if (static_cast<long>(displacement.size()) != surface_points_)
+void ResultsWriter::append_frame(const std::string& name, double time,
+                                 const std::vector<std::array<double, 3>>& displacement) {
+  const auto it = sets_.find(name);
+  if (it == sets_.end()) throw msd::Error(path_ + ": append_frame before add_point_set('" + name + "')");
+  PointSet& set = it->second;
+  if (static_cast<long>(displacement.size()) != set.points)
     throw msd::Error(path_ + ": a frame of " + std::to_string(displacement.size()) + " displacements for " +
-                     std::to_string(surface_points_) + " surface points");
-  const hsize_t f = static_cast<hsize_t>(frames_);
+                     std::to_string(set.points) + " points in /fields/" + name);
+  const hsize_t f = static_cast<hsize_t>(set.frames);
   const hsize_t n1[1] = {f + 1};
-  check(H5Dset_extent(frame_time_, n1), "extending /fields/frame_time", path_);
-  hid_t fs = H5Dget_space(frame_time_);
+  check(H5Dset_extent(set.time, n1), "extending /fields/" + name + "_time", path_);
+  hid_t fs = H5Dget_space(set.time);
   const hsize_t s1[1] = {f}, k1[1] = {1};
   H5Sselect_hyperslab(fs, H5S_SELECT_SET, s1, nullptr, k1, nullptr);
   hid_t ms = H5Screate_simple(1, k1, nullptr);
-  check(H5Dwrite(frame_time_, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, &time), "writing frame time", path_);
+  check(H5Dwrite(set.time, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, &time), "writing a frame time", path_);
   H5Sclose(ms);
   H5Sclose(fs);
-  const hsize_t n = static_cast<hsize_t>(surface_points_);
+  const hsize_t n = static_cast<hsize_t>(set.points);
   const hsize_t n3[3] = {f + 1, n, 3};
-  check(H5Dset_extent(frame_disp_, n3), "extending /fields/surface_displacement", path_);
-  fs = H5Dget_space(frame_disp_);
+  check(H5Dset_extent(set.displacement, n3), "extending /fields/" + name + "_displacement", path_);
+  fs = H5Dget_space(set.displacement);
   const hsize_t s3[3] = {f, 0, 0}, k3[3] = {1, n, 3};
   H5Sselect_hyperslab(fs, H5S_SELECT_SET, s3, nullptr, k3, nullptr);
   ms = H5Screate_simple(3, k3, nullptr);
   if (n > 0)
-    check(H5Dwrite(frame_disp_, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, displacement.data()), "writing a frame",
-          path_);
+    check(H5Dwrite(set.displacement, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, displacement.data()),
+          "writing a frame", path_);
   H5Sclose(ms);
   H5Sclose(fs);
-  ++frames_;
+  ++set.frames;
 }
 
 void ResultsWriter::set_meta(const std::string& key, const std::string& value) {
@@ -395,16 +414,25 @@ Results read_results(const std::string& path) {
     H5Aiterate2(g, H5_INDEX_NAME, H5_ITER_INC, nullptr, collect_attr, &msink);
     H5Gclose(g);
   }
-  if (H5Lexists(file, "fields", H5P_DEFAULT) > 0 &&
-      H5Lexists(file, "fields/surface_displacement", H5P_DEFAULT) > 0) {
-    const hid_t ds = H5Dopen2(file, "fields/surface_displacement", H5P_DEFAULT);
-    const hid_t sp = H5Dget_space(ds);
-    hsize_t dims[3] = {0, 0, 0};
-    H5Sget_simple_extent_dims(sp, dims, nullptr);
-    r.surface_frames = static_cast<long>(dims[0]);
-    r.surface_points = static_cast<long>(dims[1]);
-    H5Sclose(sp);
-    H5Dclose(ds);
+  if (H5Lexists(file, "fields", H5P_DEFAULT) > 0) {
+    const hid_t g = H5Gopen2(file, "fields", H5P_DEFAULT);
+    hsize_t count = 0;
+    H5Gget_num_objs(g, &count);
+    for (hsize_t i = 0; i < count; ++i) {
+      char buf[256] = {0};
+      H5Gget_objname_by_idx(g, i, buf, sizeof buf - 1);
+      const std::string n(buf);
+      const std::string suffix = "_displacement";
+      if (n.size() <= suffix.size() || n.compare(n.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
+      const hid_t ds = H5Dopen2(g, n.c_str(), H5P_DEFAULT);
+      const hid_t sp = H5Dget_space(ds);
+      hsize_t dims[3] = {0, 0, 0};
+      H5Sget_simple_extent_dims(sp, dims, nullptr);
+      r.point_sets[n.substr(0, n.size() - suffix.size())] = {static_cast<long>(dims[1]), static_cast<long>(dims[0])};
+      H5Sclose(sp);
+      H5Dclose(ds);
+    }
+    H5Gclose(g);
   }
   H5Fclose(file);
   if (ok < 0) throw msd::Error(path + ": /series holds something other than 1-D datasets");
@@ -418,6 +446,46 @@ Results read_results(const std::string& path) {
     first = false;
   }
   return r;
+}
+
+PointSetData read_point_set(const std::string& path, const std::string& name) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0) throw msd::Error(path + ": not a readable HDF5 file");
+  PointSetData d;
+  auto read = [&](const std::string& ds_name, std::vector<double>& out, std::vector<hsize_t>& dims) {
+    const std::string full = "fields/" + ds_name;
+    if (H5Lexists(file, "fields", H5P_DEFAULT) <= 0 || H5Lexists(file, full.c_str(), H5P_DEFAULT) <= 0) {
+      H5Fclose(file);
+      throw msd::Error(path + ": no /" + full + " (the run wrote no '" + name + "' fields)");
+    }
+    const hid_t ds = H5Dopen2(file, full.c_str(), H5P_DEFAULT);
+    const hid_t sp = H5Dget_space(ds);
+    const int rank = H5Sget_simple_extent_ndims(sp);
+    dims.assign(static_cast<size_t>(rank), 0);
+    H5Sget_simple_extent_dims(sp, dims.data(), nullptr);
+    hsize_t total = 1;
+    for (hsize_t x : dims) total *= x;
+    out.assign(total, 0.0);
+    if (total > 0) H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
+    H5Sclose(sp);
+    H5Dclose(ds);
+  };
+  std::vector<double> buf;
+  std::vector<hsize_t> dims;
+  read(name + "_points", buf, dims);
+  for (size_t i = 0; i + 2 < buf.size(); i += 3) d.points.push_back({{buf[i], buf[i + 1], buf[i + 2]}});
+  read(name + "_time", d.time, dims);
+  read(name + "_displacement", buf, dims);
+  const size_t n = d.points.size();
+  for (size_t f = 0; f < d.time.size(); ++f) {
+    std::vector<std::array<double, 3>> frame(n);
+    for (size_t i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) frame[i][static_cast<size_t>(c)] = buf[(f * n + i) * 3 + static_cast<size_t>(c)];
+    d.displacement.push_back(std::move(frame));
+  }
+  H5Fclose(file);
+  return d;
 }
 
 }  // namespace bench

@@ -198,7 +198,7 @@ unsigned unsigned_field(const Fields& f, const std::string& key, unsigned fallba
 FemSpec parse_fem(const Fields& f) {
   f.only({"formulation", "degree", "refinement", "cells", "linear_solver", "residual_tolerance",
           "increment_tolerance", "max_iterations", "max_cuts", "max_increment", "relative_tolerance",
-          "absolute_tolerance", "rayleigh_mass", "vtu", "fields_interval"});
+          "absolute_tolerance", "rayleigh_mass", "vtu"});
   FemSpec m;
   m.formulation = f.text_or("formulation", m.formulation);
   one_of(f, "formulation", m.formulation, {"three_field", "displacement"});
@@ -234,8 +234,6 @@ FemSpec parse_fem(const Fields& f) {
     if (v != "true" && v != "false") throw msd::Error(f.where("vtu") + "expected true or false");
     m.vtu = v == "true";
   }
-  m.fields_interval = f.number_or("fields_interval", 0.0);
-  if (m.fields_interval < 0.0) throw msd::Error(f.where("fields_interval") + "must be >= 0 (s)");
   return m;
 }
 
@@ -270,7 +268,9 @@ LoadingSpec parse_loading(const Fields& f) {
     for (const auto& [t, e] : l.path)
       if (!(e > -1.0)) throw msd::Error(f.where("path") + "nominal strain must stay above -1");
   } else if (l.type == "simple_shear") {
-    f.only({"type", "path"});
+    f.only({"type", "boundary", "path"});
+    l.boundary = f.text_or("boundary", l.boundary);
+    one_of(f, "boundary", l.boundary, {"platens", "homogeneous"});
     l.path = parse_path(f);
   } else if (l.type == "cooks_membrane") {
     f.only({"type", "force", "path"});
@@ -326,9 +326,11 @@ Spec parse_spec(const std::string& text, const std::string& source) {
   if (f.has("fem")) s.fem = parse_fem(f.section("fem"));
   s.loading = parse_loading(f.section("loading"));
   if (auto o = f.optional_section("output")) {
-    o->only({"interval"});
+    o->only({"interval", "fields_interval"});
     s.output.interval = o->number("interval");
     positive(*o, "interval", s.output.interval, "s");
+    s.output.fields_interval = o->number_or("fields_interval", 0.0);
+    if (s.output.fields_interval < 0.0) throw msd::Error(o->where("fields_interval") + "must be >= 0 (s)");
   }
   if (s.msd && !s.mesh) throw msd::Error(f.where("msd") + "the msd solver needs a 'mesh' section");
   if (s.msd && s.msd->constants == "physical" && !s.material.youngs_modulus)

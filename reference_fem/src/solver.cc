@@ -18,6 +18,8 @@
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping_q.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/grid/grid_tools_cache.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/solver_cg.h>
@@ -39,6 +41,7 @@
 #include <cstdlib>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 
@@ -113,6 +116,17 @@ class Solver {
   Report measure(double t, const LA::MPI::Vector& u, const LA::MPI::Vector* velocity);
   void write_fields(double t, const LA::MPI::Vector& u_ghost);
   void gather_surface(const LA::MPI::Vector& u_ghost, bool topology, double t);
+  /// Locates the field probes in locally owned cells (set-up) and evaluates
+  /// the displacement there (every field frame).
+  void locate_field_probes();
+  void evaluate_field_probes(const LA::MPI::Vector& u_ghost, double t);
+
+  struct LocatedProbe {
+    unsigned index;
+    std::vector<types::global_dof_index> dofs;
+    std::vector<double> shape;  // shape values at the probe's unit point, by local dof
+  };
+  std::vector<LocatedProbe> located;
 
   const Problem& P;
   const Callbacks& cb;
@@ -247,6 +261,7 @@ void Solver::setup() {
   summary.cells = tria.n_global_active_cells();
   summary.processes = Utilities::MPI::n_mpi_processes(comm);
   summary.reference_volume = reference_volume;
+  locate_field_probes();
   for (int f : P.reaction_faces) summary.face_areas.push_back(face_area[static_cast<size_t>(f)]);
   for (const auto& p : probe_points) summary.probe_vertices.push_back({{p[0], p[1], p[2]}});
 }
@@ -904,6 +919,7 @@ void Solver::write_fields(double t, const LA::MPI::Vector& u_ghost) {
     }
   }
   if (cb.on_surface || cb.on_frame) gather_surface(u_ghost, !surface_sent, t);
+  if (!P.field_probes.empty()) evaluate_field_probes(u_ghost, t);
   surface_sent = true;
   ++frame;
 }
@@ -955,6 +971,50 @@ void Solver::gather_surface(const LA::MPI::Vector& u_ghost, bool topology, doubl
       if (it != surface_index.end()) d[static_cast<size_t>(it->second)] = {{e[3], e[4], e[5]}};
     }
   if (cb.on_frame) cb.on_frame(t, d);
+}
+
+void Solver::locate_field_probes() {
+  if (P.field_probes.empty()) return;
+  const GridTools::Cache<3> cache(tria, mapping);
+  const unsigned n = fe.n_dofs_per_cell();
+  for (unsigned k = 0; k < P.field_probes.size(); ++k) {
+    const Point<3> p(P.field_probes[k][0], P.field_probes[k][1], P.field_probes[k][2]);
+    try {
+      const auto found = GridTools::find_active_cell_around_point(cache, p);
+      const auto& tcell = found.first;
+      if (tcell.state() != IteratorState::valid || !tcell->is_locally_owned()) continue;
+      const typename DoFHandler<3>::active_cell_iterator cell(&tria, tcell->level(), tcell->index(), &dof);
+      LocatedProbe lp;
+      lp.index = k;
+      lp.dofs.resize(n);
+      cell->get_dof_indices(lp.dofs);
+      lp.shape.resize(n);
+      for (unsigned i = 0; i < n; ++i) lp.shape[i] = fe.shape_value(i, found.second);
+      located.push_back(std::move(lp));
+    } catch (const std::exception&) {
+      // outside the mesh (or not in this process's part): not evaluated here
+    }
+  }
+}
+
+void Solver::evaluate_field_probes(const LA::MPI::Vector& u_ghost, double t) {
+  std::vector<std::array<double, 4>> local;  // index, ux, uy, uz
+  for (const auto& lp : located) {
+    std::array<double, 4> v{{static_cast<double>(lp.index), 0, 0, 0}};
+    for (unsigned i = 0; i < lp.dofs.size(); ++i)
+      v[1 + fe.system_to_component_index(i).first] += lp.shape[i] * u_ghost[lp.dofs[i]];
+    local.push_back(v);
+  }
+  const auto all = Utilities::MPI::gather(comm, local, 0);
+  if (Utilities::MPI::this_mpi_process(comm) != 0 || !cb.on_probe_frame) return;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<std::array<double, 3>> d(P.field_probes.size(), {{nan, nan, nan}});
+  for (const auto& part : all)
+    for (const auto& v : part) {
+      auto& slot = d[static_cast<size_t>(v[0])];
+      if (std::isnan(slot[0])) slot = {{v[1], v[2], v[3]}};
+    }
+  cb.on_probe_frame(t, d);
 }
 
 Summary Solver::run() {

@@ -1,9 +1,12 @@
 // Binds a Spec to the msd library: builds the sample geometry and mesh, the
-// model with the spec's terms and constants, the platens and loading path, runs
-// the test and writes the results file.
+// model with the spec's terms and constants, the rig of the spec's loading
+// (platens, clamp, loads, initial state), runs it and writes the results file.
 #pragma once
 
+#include "bench/results_file.hpp"
 #include "bench/spec.hpp"
+#include "msd/experiments/shear.hpp"
+#include "msd/experiments/static_load.hpp"
 #include "msd/experiments/uniaxial.hpp"
 #include "msd/geometry/triangle_mesh.hpp"
 #include "msd/mesh/cubic_grid.hpp"
@@ -31,12 +34,22 @@ msd::TissueMaterial make_material(const Spec& spec);
 struct MsdProblem {
   msd::SampleMesh sample;
   msd::Model model;
-  msd::UniaxialSetup setup;
-  msd::LoadingPath path;
+  msd::LoadingPath path;              ///< strain, shear strain or load factor
   msd::TimeSteppingOptions stepping;
+  std::string loading;
+  msd::UniaxialSetup platens;         ///< uniaxial, simple_shear
+  msd::ClampSetup clamp;              ///< static, vibration
+  msd::State initial;
+  double size = 0.0;                  ///< for the blow-up guard, m
+  std::vector<SeriesColumn> columns;  ///< the series this loading writes
 };
 
 MsdProblem compile_msd(const Spec& spec);
+
+/// The loading's controls and one results row per sample; `frame` (optional)
+/// sees the state at every sample first.
+msd::ExperimentHooks msd_hooks(const MsdProblem& p, const std::function<bool(const std::vector<double>&)>& row,
+                               const std::function<void(const msd::State&)>& frame = {});
 
 /// The material constants actually used, for /meta/material.
 std::vector<std::pair<std::string, double>> material_record(const Spec& spec,

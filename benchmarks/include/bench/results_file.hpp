@@ -7,8 +7,11 @@
 //   /series  equal-length 1-D float64 datasets, each with a "units" attribute
 //   /timing  attributes: wall_seconds, steps, dt, threads (+ solver details)
 //   /metrics attributes: derived scalars (e.g. first_frequency), optional
-//   /fields  optional: surface_points (N x 3, reference), surface_triangles
-//            (M x 3), frame_time (F), surface_displacement (F x N x 3)
+//   /fields  optional point sets, each NAME_points (N x 3, reference
+//            positions), NAME_time (F), NAME_displacement (F x N x 3), and for
+//            a surface NAME_triangles (M x 3): "surface" (the FEM boundary),
+//            "nodes" (the MSD nodes, with nodes_tets), "probes" (the FEM
+//            solution at the MSD nodes' rest positions; NaN outside its mesh)
 //
 // The file is created when a run starts with status "running", rows are
 // appended and flushed as the run goes, and the status becomes "complete" or
@@ -57,11 +60,12 @@ class ResultsWriter {
   void set_timing_detail(const std::string& key, double value);
   /// Adds a numeric /metrics attribute.
   void set_metric(const std::string& key, double value);
-  /// Writes the reference surface of /fields (once, before frames).
-  void write_surface(const std::vector<std::array<double, 3>>& points,
-                     const std::vector<std::array<int, 3>>& triangles);
-  /// Appends one frame of surface displacements (one per surface point).
-  void append_frame(double time, const std::vector<std::array<double, 3>>& displacement);
+  /// Starts the point set `name` of /fields: its reference points and, for a
+  /// surface or a tet mesh, its connectivity (cells of 3 or 4 indices; may be empty).
+  void add_point_set(const std::string& name, const std::vector<std::array<double, 3>>& points,
+                     const std::vector<std::vector<int>>& cells = {});
+  /// Appends one frame of displacements (one per point) to the set `name`.
+  void append_frame(const std::string& name, double time, const std::vector<std::array<double, 3>>& displacement);
   /// Adds a text attribute to /meta.
   void set_meta(const std::string& key, const std::string& value);
   /// Marks the run complete (and flushes).
@@ -78,8 +82,11 @@ class ResultsWriter {
   std::string path_, csv_path_;
   std::vector<SeriesColumn> columns_;
   hid_t file_ = -1, meta_ = -1, series_ = -1, timing_ = -1, metrics_ = -1, fields_ = -1;
-  hid_t frame_time_ = -1, frame_disp_ = -1;
-  long frames_ = 0, surface_points_ = 0;
+  struct PointSet {
+    hid_t time = -1, displacement = -1;
+    long frames = 0, points = 0;
+  };
+  std::map<std::string, PointSet> sets_;
   std::vector<hid_t> datasets_;
   std::vector<std::vector<double>> pending_;
   long rows_ = 0;
@@ -95,9 +102,19 @@ struct Results {
   std::map<std::string, std::string> units;      ///< per series
   std::map<std::string, double> timing;
   std::map<std::string, double> metrics;
-  long surface_points = 0, surface_frames = 0;  ///< sizes of /fields, when present
+  /// /fields point sets: name -> (points, frames); read_point_set loads one.
+  std::map<std::string, std::pair<long, long>> point_sets;
   std::string status() const;
 };
+
+/// One /fields point set: reference points (N), frame times (F) and
+/// displacements (F x N).
+struct PointSetData {
+  std::vector<std::array<double, 3>> points;
+  std::vector<double> time;
+  std::vector<std::vector<std::array<double, 3>>> displacement;
+};
+PointSetData read_point_set(const std::string& path, const std::string& name);
 
 /// Reads a results file. Throws msd::Error naming the file on a missing file or
 /// a layout that does not match.

@@ -69,7 +69,6 @@ struct FemSpec {
   double absolute_tolerance = 1e-12;
   double rayleigh_mass = 0.0;               ///< 1/s
   bool vtu = true;
-  double fields_interval = 0.0;             ///< s; 0 = every output
 };
 
 struct LoadingSpec {
@@ -79,6 +78,7 @@ struct LoadingSpec {
   std::string traction_face;              ///< static: face carrying `traction` (empty: none)
   Eigen::Vector3d traction{Eigen::Vector3d::Zero()};  ///< static: total force, N
   std::string platens = "bonded";         ///< uniaxial: bonded | frictionless
+  std::string boundary = "platens";       ///< simple_shear: platens | homogeneous (fem only)
   /// (time s, value): nominal strain (uniaxial), shear strain gamma
   /// (simple_shear), load factor (cooks_membrane, static: scales the traction
   /// and gravity).
@@ -92,6 +92,7 @@ struct LoadingSpec {
 
 struct OutputSpec {
   double interval = 0.01;                 ///< s between samples
+  double fields_interval = 0.0;           ///< s between /fields frames; 0: every sample
 };
 
 struct Spec {

@@ -91,39 +91,12 @@ UniaxialSample measure_uniaxial(const Model& model, const UniaxialSetup& setup, 
 RunStats run_uniaxial(const Model& model, const UniaxialSetup& setup, const LoadingPath& path,
                       const TimeSteppingOptions& opt,
                       const std::function<bool(const UniaxialSample&, const State&)>& on_sample) {
-  if (!(opt.dt > 0.0) || !std::isfinite(opt.dt)) throw Error("time step dt must be positive");
-  if (!(opt.output_interval > 0.0)) throw Error("output interval must be positive");
-  State state = rest_state(model);
-  Scratch scratch;
-  apply_constraints(model, uniaxial_controls(model, setup, path, 0.0), state);
-  RunStats stats;
-  const double end = path.end_time();
-  const long total_steps = static_cast<long>(std::ceil(end / opt.dt - 1e-9));
-  const double limit = opt.blowup_factor * setup.length;
-  double next_output = 0.0;
-  long output_index = 0;
-  for (long k = 0;; ++k) {
-    const double t = k * opt.dt;
-    state.t = t;  // avoid drift from repeated addition
-    if (t >= next_output - 1e-12 * opt.dt || k == total_steps) {
-      // Blow-up guard: a node far from rest means the run has diverged.
-      Eigen::Index worst = 0;
-      const double d = (state.x - model.rest_positions).colwise().norm().maxCoeff(&worst);
-      if (d > limit)
-        throw SimulationFailure("blow-up: a node moved " + std::to_string(d) + " m from rest (" +
-                                    std::to_string(opt.blowup_factor) + " sample lengths)",
-                                t, state.step, -1, static_cast<int>(worst));
-      if (!on_sample(measure_uniaxial(model, setup, state, scratch), state)) break;
-      ++output_index;
-      next_output = output_index * opt.output_interval;
-    }
-    if (k == total_steps) break;
-    step(model, state, uniaxial_controls(model, setup, path, (k + 1) * opt.dt), opt.dt,
-         opt.integrator, scratch);
-    ++stats.steps;
-  }
-  stats.simulated_seconds = state.t;
-  return stats;
+  ExperimentHooks hooks;
+  hooks.controls = [&](double t) { return uniaxial_controls(model, setup, path, t); };
+  hooks.sample = [&](const State& state, Scratch& scratch) {
+    return on_sample(measure_uniaxial(model, setup, state, scratch), state);
+  };
+  return run_experiment(model, rest_state(model), path.end_time(), setup.length, opt, hooks);
 }
 
 }  // namespace msd

@@ -76,9 +76,12 @@ void apply_constraints(const Model& model, const Controls& controls, State& stat
   }
 }
 
-void accelerations(const Model& model, const Scratch& scratch, Points& a) {
-  a = scratch.f * model.inv_mass.asDiagonal();
-  if (model.terms & kGravity) a.colwise() += model.gravity;
+void accelerations(const Model& model, const Scratch& scratch, double load_scale, Points& a) {
+  if (model.external_force.cols() == scratch.f.cols())
+    a = (scratch.f + load_scale * model.external_force) * model.inv_mass.asDiagonal();
+  else
+    a = scratch.f * model.inv_mass.asDiagonal();
+  if (model.terms & kGravity) a.colwise() += load_scale * model.gravity;
 }
 
 void evaluate_forces(const Model& model, const State& state, Scratch& scratch) {
@@ -94,14 +97,14 @@ void step(const Model& model, State& state, const Controls& controls, double dt,
   switch (integrator) {
     case Integrator::ExplicitEuler: {
       evaluate_forces(model, state, scratch);
-      accelerations(model, scratch, state.a);
+      accelerations(model, scratch, controls.load_scale, state.a);
       state.x += dt * state.v;
       state.v += dt * state.a;
       break;
     }
     case Integrator::SymplecticEuler: {
       evaluate_forces(model, state, scratch);
-      accelerations(model, scratch, state.a);
+      accelerations(model, scratch, controls.load_scale, state.a);
       state.v += dt * state.a;
       state.x += dt * state.v;
       break;
@@ -109,13 +112,13 @@ void step(const Model& model, State& state, const Controls& controls, double dt,
     case Integrator::VelocityVerlet: {
       if (!state.a_valid) {
         evaluate_forces(model, state, scratch);
-        accelerations(model, scratch, state.a);
+        accelerations(model, scratch, controls.load_scale, state.a);
       }
       state.v += 0.5 * dt * state.a;
       state.x += dt * state.v;
       apply_constraints(model, controls, state);
       evaluate_forces(model, state, scratch);
-      accelerations(model, scratch, state.a);
+      accelerations(model, scratch, controls.load_scale, state.a);
       state.v += 0.5 * dt * state.a;
       state.a_valid = true;
       break;

@@ -97,6 +97,13 @@ Model build_model(const TetMesh& mesh, const ModelOptions& options) {
     }
   }
   model.groups = options.groups;
+  if (options.external_force.size() > 0) {
+    if (options.external_force.cols() != n)
+      throw Error("external forces given for " + std::to_string(options.external_force.cols()) + " nodes, the mesh has " +
+                  std::to_string(n));
+    if (!options.external_force.allFinite()) throw Error("external forces are not finite");
+    model.external_force = options.external_force;
+  }
   return model;
 }
 

@@ -140,6 +140,9 @@ struct Problem {
   double report_interval = 0.0;            ///< dynamics: s between reports
   std::vector<int> reaction_faces;         ///< faces whose reaction force is reported
   std::vector<std::array<double, 3>> probes;  ///< reference points whose displacement is reported
+  /// Reference points where the displacement field is evaluated at every
+  /// field frame (e.g. the MSD model's nodes); NaN where outside the mesh.
+  std::vector<std::array<double, 3>> field_probes;
   std::string vtu_directory;               ///< non-empty: write VTU/PVD there
   std::string vtu_basename = "solution";
   double fields_interval = 0.0;            ///< 0: surface/VTU at every report
@@ -172,6 +175,8 @@ struct Callbacks {
   std::function<void(const Report&)> on_report;
   std::function<void(const Surface&)> on_surface;  ///< once, before the first frame
   std::function<void(double t, const std::vector<std::array<double, 3>>& displacement)> on_frame;
+  /// Once per field frame: the displacement at each field probe (rank 0).
+  std::function<void(double t, const std::vector<std::array<double, 3>>& displacement)> on_probe_frame;
   std::function<void(double t, double end)> progress;
 };
 

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "msd/experiments/loading_path.hpp"
+#include "msd/experiments/rig.hpp"
 #include "msd/integrate/step.hpp"
 #include "msd/model/model.hpp"
 
@@ -51,19 +52,6 @@ struct UniaxialSample {
 /// Measures the sample at `state` (evaluates the forces into scratch).
 UniaxialSample measure_uniaxial(const Model& model, const UniaxialSetup& setup,
                                 const State& state, Scratch& scratch);
-
-struct TimeSteppingOptions {
-  double dt = 1e-4;
-  Integrator integrator = Integrator::SymplecticEuler;
-  double output_interval = 0.01;
-  /// A node moving farther than this many sample lengths from rest is a blow-up.
-  double blowup_factor = 10.0;
-};
-
-struct RunStats {
-  long steps = 0;
-  double simulated_seconds = 0.0;
-};
 
 /// Runs the test from rest to the end of `path`, calling `on_sample` at t = 0
 /// and every output interval (and at the end); a false return stops the run.

@@ -40,9 +40,9 @@ class SimulationFailure : public Error {
 /// Sets the constrained components of group nodes from `controls`.
 void apply_constraints(const Model& model, const Controls& controls, State& state);
 
-/// Acceleration f / m (+ gravity when enabled) from the internal forces in
-/// scratch.f.
-void accelerations(const Model& model, const Scratch& scratch, Points& a);
+/// Acceleration (f + s f_ext) / m (+ s g when gravity is enabled) from the
+/// internal forces in scratch.f, with s = load_scale.
+void accelerations(const Model& model, const Scratch& scratch, double load_scale, Points& a);
 
 /// Advances `state` by dt. `controls` prescribe the kinematic groups at t + dt.
 /// Throws SimulationFailure (naming the element, node, time and step) if a force,

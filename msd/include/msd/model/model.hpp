@@ -60,6 +60,9 @@ struct Model {
   /// 0 means always on (the thesis' own material tests).
   double nonlinear_threshold = 0.0;
   Vec3 gravity{Vec3::Zero()};
+  /// Dead external loads per node (3 x N, N), e.g. a traction spread over a
+  /// face; scaled by Controls::load_scale. Empty: none.
+  Points external_force;
   std::vector<KinematicGroup> groups;
   std::vector<TissueMaterial> region_materials;  ///< by region label
 
@@ -75,6 +78,7 @@ struct ModelOptions {
   /// mesh needs one.
   std::vector<TissueMaterial> region_materials;
   std::vector<KinematicGroup> groups;
+  Points external_force;  ///< optional, 3 x N
 };
 
 /// Compiles a model: checks the mesh and materials, computes rest data and
@@ -94,10 +98,12 @@ struct State {
 /// The rest state: x = rest positions, v = 0, t = 0.
 State rest_state(const Model& model);
 
-/// Prescribed motion of each kinematic group at the time being integrated to.
+/// Prescribed motion of each kinematic group at the time being integrated to,
+/// and the factor on the dead loads (external forces and gravity).
 struct Controls {
   std::vector<Vec3> group_offset;
   std::vector<Vec3> group_velocity;
+  double load_scale = 1.0;
 };
 
 /// Reused buffers and per-evaluation diagnostics.

@@ -1,0 +1,239 @@
+#include "bench/compare.hpp"
+
+#include "bench/results_file.hpp"
+#include "msd/core/types.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace bench {
+
+namespace {
+
+std::string loading_of(const Results& r) {
+  const std::string test = r.meta.count("test") ? r.meta.at("test") : "";
+  for (const char* t : {"uniaxial", "simple_shear", "static", "vibration", "cooks_membrane"})
+    if (test.rfind(t, 0) == 0) return t;
+  return "";
+}
+
+// y(t) by linear interpolation in t (t sorted); NaN outside.
+double interpolate(const std::vector<double>& t, const std::vector<double>& y, double at) {
+  if (t.empty() || at < t.front() - 1e-12 || at > t.back() + 1e-12) return std::numeric_limits<double>::quiet_NaN();
+  const auto it = std::lower_bound(t.begin(), t.end(), at);
+  if (it == t.begin()) return y.front();
+  if (it == t.end()) return y.back();
+  const size_t i = static_cast<size_t>(it - t.begin());
+  const double w = (at - t[i - 1]) / (t[i] - t[i - 1]);
+  return (1 - w) * y[i - 1] + w * y[i];
+}
+
+const std::vector<double>& series(const Results& r, const std::string& name, const std::string& file) {
+  const auto it = r.series.find(name);
+  if (it == r.series.end()) throw msd::Error(file + ": no /series/" + name);
+  return it->second;
+}
+
+}  // namespace
+
+Comparison compare_results(const std::string& msd_file, const std::string& fem_file) {
+  const Results m = read_results(msd_file), f = read_results(fem_file);
+  for (const auto& [r, file, solver] : {std::tuple<const Results&, const std::string&, const char*>{m, msd_file, "msd"},
+                                        {f, fem_file, "fem"}}) {
+    if (r.meta.count("solver") == 0 || r.meta.at("solver") != solver)
+      throw msd::Error(file + ": expected a results file of the " + std::string(solver) + " solver");
+    if (r.status() != "complete") throw msd::Error(file + ": the run is not complete (status " + r.status() + ")");
+  }
+  Comparison c;
+  c.spec = m.meta.at("spec_name");
+  c.loading = loading_of(m);
+  if (c.loading.empty() || c.loading != loading_of(f))
+    throw msd::Error("compare: " + msd_file + " and " + fem_file + " are not the same test (" + loading_of(m) +
+                     " / " + loading_of(f) + ")");
+  if (m.meta.at("spec_name") != f.meta.at("spec_name"))
+    throw msd::Error("compare: the files come from different specs (" + m.meta.at("spec_name") + ", " +
+                     f.meta.at("spec_name") + ")");
+
+  const auto& tm = series(m, "time", msd_file);
+  const auto& tf = series(f, "time", fem_file);
+  std::string x_name;
+  if (c.loading == "uniaxial") {
+    c.load_series = "nominal_stress";
+    c.units = "Pa";
+    x_name = "strain";
+  } else if (c.loading == "simple_shear") {
+    c.load_series = "shear_stress";
+    c.units = "Pa";
+    x_name = "shear_strain";
+  } else if (c.loading == "static") {
+    // The tip displacement component the FEM moves most along.
+    double best = -1.0;
+    for (const char* k : {"tip_displacement_x", "tip_displacement_y", "tip_displacement_z"}) {
+      const auto& v = series(f, k, fem_file);
+      const double a = v.empty() ? 0.0 : std::abs(v.back());
+      if (a > best) {
+        best = a;
+        c.load_series = k;
+      }
+    }
+    c.units = "m";
+    x_name = "load_factor";
+  } else {
+    c.load_series = "tip_displacement";
+    c.units = "m";
+  }
+  const auto& ym = series(m, c.load_series, msd_file);
+  const auto& yf = series(f, c.load_series, fem_file);
+  double sum_d = 0, sum_f = 0, sum_dw = 0, sum_fw = 0, max_d = 0;
+  long n = 0, nw = 0;
+  double max_v = 0.0;
+  const auto* vm = m.series.count("volume_ratio") ? &m.series.at("volume_ratio") : nullptr;
+  const auto* vf = f.series.count("volume_ratio") ? &f.series.at("volume_ratio") : nullptr;
+  for (size_t i = 0; i < tf.size(); ++i) {
+    const double y = interpolate(tm, ym, tf[i]);
+    if (std::isnan(y)) continue;
+    const double d = y - yf[i];
+    sum_d += d * d;
+    sum_f += yf[i] * yf[i];
+    max_d = std::max(max_d, std::abs(d));
+    ++n;
+    if (!x_name.empty() && (c.loading == "uniaxial" || c.loading == "simple_shear") &&
+        std::abs(series(f, x_name, fem_file)[i]) <= 0.4 + 1e-12) {
+      sum_dw += d * d;
+      sum_fw += yf[i] * yf[i];
+      ++nw;
+    }
+    if (vm && vf) max_v = std::max(max_v, std::abs(interpolate(tm, *vm, tf[i]) - (*vf)[i]));
+  }
+  c.points = n;
+  if (n > 0) {
+    c.load_rms_fem = std::sqrt(sum_f / n);
+    c.load_rel_rms = sum_f > 0 ? std::sqrt(sum_d / sum_f) : std::numeric_limits<double>::quiet_NaN();
+    c.load_max_abs_error = max_d;
+    if (vm && vf) c.volume_ratio_max_error = max_v;
+  }
+  if (nw > 0 && sum_fw > 0) c.load_rel_rms_working = std::sqrt(sum_dw / sum_fw);
+
+  // Displacement field at the MSD nodes.
+  if (m.point_sets.count("nodes") && f.point_sets.count("probes")) {
+    const PointSetData a = read_point_set(msd_file, "nodes"), b = read_point_set(fem_file, "probes");
+    if (a.points.size() != b.points.size())
+      throw msd::Error("compare: " + fem_file + " holds the FEM solution at " + std::to_string(b.points.size()) +
+                       " points, " + msd_file + " has " + std::to_string(a.points.size()) + " nodes");
+    for (size_t i = 0; i < a.points.size(); ++i)
+      for (int k = 0; k < 3; ++k)
+        if (std::abs(a.points[i][static_cast<size_t>(k)] - b.points[i][static_cast<size_t>(k)]) > 1e-12)
+          throw msd::Error("compare: the FEM probe points are not the MSD nodes (point " + std::to_string(i) + ")");
+    double umax = 0.0, sum = 0.0, emax = 0.0;
+    long count = 0;
+    for (size_t fb = 0; fb < b.time.size(); ++fb) {
+      size_t fa = 0;
+      double best = 1e300;
+      for (size_t k = 0; k < a.time.size(); ++k)
+        if (std::abs(a.time[k] - b.time[fb]) < best) {
+          best = std::abs(a.time[k] - b.time[fb]);
+          fa = k;
+        }
+      if (best > 1e-6) continue;
+      ++c.frames_compared;
+      long outside = 0;
+      for (size_t i = 0; i < b.points.size(); ++i) {
+        const auto& uf = b.displacement[fb][i];
+        if (std::isnan(uf[0])) {
+          ++outside;
+          continue;
+        }
+        const auto& um = a.displacement[fa][i];
+        const double e2 = (um[0] - uf[0]) * (um[0] - uf[0]) + (um[1] - uf[1]) * (um[1] - uf[1]) +
+                          (um[2] - uf[2]) * (um[2] - uf[2]);
+        umax = std::max(umax, std::sqrt(uf[0] * uf[0] + uf[1] * uf[1] + uf[2] * uf[2]));
+        sum += e2;
+        emax = std::max(emax, std::sqrt(e2));
+        ++count;
+      }
+      c.nodes_outside = outside;
+      c.nodes_compared = static_cast<long>(b.points.size()) - outside;
+    }
+    if (count > 0 && umax > 0.0) {
+      c.displacement_rel_rms = std::sqrt(sum / count) / umax;
+      c.displacement_rel_max = emax / umax;
+    }
+  }
+
+  if (c.loading == "vibration") {
+    auto metric = [](const Results& r, const char* k) {
+      return r.metrics.count(k) ? r.metrics.at(k) : std::numeric_limits<double>::quiet_NaN();
+    };
+    c.frequency_msd = metric(m, "first_frequency");
+    c.frequency_fem = metric(f, "first_frequency");
+    c.frequency_rel_error = (c.frequency_msd - c.frequency_fem) / c.frequency_fem;
+    c.damping_ratio_msd = metric(m, "damping_ratio");
+    c.damping_ratio_fem = metric(f, "damping_ratio");
+    c.damping_ratio_abs_error = c.damping_ratio_msd - c.damping_ratio_fem;
+  }
+  return c;
+}
+
+namespace {
+
+std::string num(double v) {
+  if (std::isnan(v)) return "null";
+  std::ostringstream s;
+  s << std::setprecision(10) << v;
+  return s.str();
+}
+
+}  // namespace
+
+void write_comparison_json(const Comparison& c, const std::string& path) {
+  std::ofstream out(path);
+  if (!out) throw msd::Error(path + ": cannot write");
+  out << "{\n  \"spec\": \"" << c.spec << "\",\n  \"loading\": \"" << c.loading << "\",\n  \"load_series\": \""
+      << c.load_series << "\",\n  \"units\": \"" << c.units << "\",\n  \"points\": " << c.points
+      << ",\n  \"load_rms_fem\": " << num(c.load_rms_fem) << ",\n  \"load_rel_rms\": " << num(c.load_rel_rms)
+      << ",\n  \"load_rel_rms_working\": " << num(c.load_rel_rms_working)
+      << ",\n  \"load_max_abs_error\": " << num(c.load_max_abs_error)
+      << ",\n  \"volume_ratio_max_error\": " << num(c.volume_ratio_max_error)
+      << ",\n  \"displacement_rel_rms\": " << num(c.displacement_rel_rms)
+      << ",\n  \"displacement_rel_max\": " << num(c.displacement_rel_max) << ",\n  \"nodes_compared\": "
+      << c.nodes_compared << ",\n  \"nodes_outside\": " << c.nodes_outside << ",\n  \"frames_compared\": "
+      << c.frames_compared << ",\n  \"frequency_msd\": " << num(c.frequency_msd)
+      << ",\n  \"frequency_fem\": " << num(c.frequency_fem) << ",\n  \"frequency_rel_error\": "
+      << num(c.frequency_rel_error) << ",\n  \"damping_ratio_msd\": " << num(c.damping_ratio_msd)
+      << ",\n  \"damping_ratio_fem\": " << num(c.damping_ratio_fem) << ",\n  \"damping_ratio_abs_error\": "
+      << num(c.damping_ratio_abs_error) << "\n}\n";
+}
+
+std::string format_comparison(const Comparison& c) {
+  std::ostringstream s;
+  s << std::setprecision(4);
+  auto pct = [&](const char* label, double v) {
+    if (!std::isnan(v)) s << "  " << std::left << std::setw(44) << label << 100.0 * v << " %\n";
+  };
+  auto val = [&](const char* label, double v, const char* unit) {
+    if (!std::isnan(v)) s << "  " << std::left << std::setw(44) << label << v << " " << unit << "\n";
+  };
+  s << "MSD against FEM: " << c.spec << " (" << c.loading << ", " << c.load_series << ", " << c.points
+    << " points)\n";
+  pct("load curve, relative RMS error", c.load_rel_rms);
+  pct("  over the working range |strain| <= 0.4", c.load_rel_rms_working);
+  val("load curve, largest error", c.load_max_abs_error, c.units.c_str());
+  val("volume ratio, largest error", c.volume_ratio_max_error, "");
+  if (!std::isnan(c.displacement_rel_rms)) {
+    pct("displacement field, RMS / max |u_fem|", c.displacement_rel_rms);
+    pct("displacement field, max / max |u_fem|", c.displacement_rel_max);
+    s << "  (" << c.nodes_compared << " nodes in " << c.frames_compared << " frames; " << c.nodes_outside
+      << " msd nodes lie outside the fem mesh)\n";
+  }
+  if (!std::isnan(c.frequency_fem)) {
+    s << "  first frequency: msd " << c.frequency_msd << " Hz, fem " << c.frequency_fem << " Hz\n";
+    pct("  relative error", c.frequency_rel_error);
+    s << "  damping ratio: msd " << c.damping_ratio_msd << ", fem " << c.damping_ratio_fem << "\n";
+  }
+  return s.str();
+}
+
+}  // namespace bench

@@ -1,0 +1,62 @@
+// Building blocks of the virtual material tests: the faces of a sample, loads
+// spread over a face, probes, and one time loop that drives any test through
+// its controls (prescribed motion, load factor) and samples it at output times.
+#pragma once
+
+#include "msd/integrate/step.hpp"
+#include "msd/mesh/tet_mesh.hpp"
+#include "msd/model/model.hpp"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace msd {
+
+/// The six faces of a sample's bounding box: left/right (x min/max),
+/// front/back (y), bottom/top (z).
+enum class Face { Left = 0, Right = 1, Front = 2, Back = 3, Bottom = 4, Top = 5 };
+Face parse_face(const std::string& name);
+std::string to_string(Face face);
+
+/// Nodes lying on the plane of `face` (within 1e-9 of the sample's size).
+std::vector<int> face_nodes(const TetMesh& mesh, Face face);
+
+/// Rest area of the boundary triangles whose three nodes are all in `nodes`.
+double face_area(const TetMesh& mesh, const std::vector<int>& nodes);
+
+/// A total force spread over the boundary triangles of `nodes` in proportion to
+/// area (each triangle gives a third of its share to each vertex), as the
+/// consistent nodal loads of a uniform dead traction on linear elements.
+Points face_load(const TetMesh& mesh, const std::vector<int>& nodes, const Vec3& total_force);
+
+/// Index of the node nearest p.
+int nearest_node(const Points& x, const Vec3& p);
+
+struct TimeSteppingOptions {
+  double dt = 1e-4;
+  Integrator integrator = Integrator::SymplecticEuler;
+  double output_interval = 0.01;
+  /// A node moving farther than this many sample sizes from rest is a blow-up.
+  double blowup_factor = 10.0;
+};
+
+struct RunStats {
+  long steps = 0;
+  double simulated_seconds = 0.0;
+};
+
+struct ExperimentHooks {
+  /// Controls at time t (prescribed group motion, load factor).
+  std::function<Controls(double t)> controls;
+  /// Called at t = 0, every output interval and at the end, with the state and
+  /// scratch (evaluate forces into it as needed); false stops the run.
+  std::function<bool(const State&, Scratch&)> sample;
+};
+
+/// Integrates from `initial` to end_time. Throws SimulationFailure on a
+/// non-finite value or a blow-up (a node farther than blowup_factor * size).
+RunStats run_experiment(const Model& model, State initial, double end_time, double size,
+                        const TimeSteppingOptions& options, const ExperimentHooks& hooks);
+
+}  // namespace msd
