@@ -40,11 +40,15 @@ void print_summary_row(const bench::RunSummary& s) {
 }
 
 void print_fem_row(const bench::RunSummary& s) {
-  std::printf("%-28s %-4s %8lu cells %9lu dofs  %6ld steps %8.2f s  %s", s.name.c_str(), s.solver.c_str(), s.cells,
-              s.dofs, s.steps, s.wall_seconds, s.complete ? "complete" : "FAILED");
+  if (s.solver == "fem")
+    std::printf("%-28s %-4s %8lu cells %9lu dofs  %6ld steps %8.2f s  %s", s.name.c_str(), s.solver.c_str(),
+                s.cells, s.dofs, s.steps, s.wall_seconds, s.complete ? "complete" : "FAILED");
+  else
+    std::printf("%-28s %-4s %8d tets %9d nodes  %6ld steps %8.2f s  %s", s.name.c_str(), s.solver.c_str(), s.tets,
+                s.nodes, s.steps, s.wall_seconds, s.complete ? "complete" : "FAILED");
   if (s.loading == "uniaxial" || s.loading == "simple_shear")
     std::printf("  stress [%.4g, %.4g] Pa", s.min_stress, s.max_stress);
-  if (s.loading != "vibration" && s.min_volume_ratio < 1e299)
+  if (s.min_volume_ratio < 1e299)
     std::printf("  V/V0 [%.4f, %.4f]", s.min_volume_ratio, s.max_volume_ratio);
   for (const auto& [k, v] : s.highlights) std::printf("  %s = %.6g", k.c_str(), v);
   std::printf("\n");
@@ -52,7 +56,7 @@ void print_fem_row(const bench::RunSummary& s) {
 
 int report(const bench::Spec& spec, const bench::RunSummary& s) {
   if (!root()) return s.complete ? 0 : 1;
-  if (s.solver == "msd") {
+  if (s.solver == "msd" && s.loading == "uniaxial") {
     print_summary_header();
     print_summary_row(s);
   } else {

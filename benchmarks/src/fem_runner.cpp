@@ -179,9 +179,19 @@ fem::Problem make_fem_problem(const Spec& spec, const std::string& vtu_directory
     p.dirichlet = {fixed};
     p.dynamic = true;
     p.dynamics.initial = l.initial == "axial_stretch" ? fem::Dynamics::Initial::AxialStretch
+                         : l.initial == "preload"     ? fem::Dynamics::Initial::Preload
                                                       : fem::Dynamics::Initial::AxialMode;
     p.dynamics.amplitude = l.amplitude;
-    p.dynamics.end_time = l.duration;
+    if (l.initial == "preload") {
+      const std::vector<std::string> names{"left", "right", "front", "back", "bottom", "top"};
+      fem::Traction t;
+      t.face = static_cast<int>(std::find(names.begin(), names.end(), l.traction_face) - names.begin());
+      t.total_force = {{l.traction.x(), l.traction.y(), l.traction.z()}};
+      t.path.points = {{0.0, 0.0}, {0.5 * l.release, 1.0}, {l.release, 1.0}};
+      p.dynamics.preload = {t};
+      p.dynamics.release_time = l.release;
+    }
+    p.dynamics.end_time = l.release + l.duration;
     p.dynamics.rayleigh_mass = f.rayleigh_mass;
     p.dynamics.rayleigh_stiffness = spec.material.damping_time.value_or(0.0);
     p.dynamics.relative_tolerance = f.relative_tolerance;
@@ -382,7 +392,14 @@ RunSummary run_fem(const Spec& spec, const std::string& out_path, const Progress
   s.wall_seconds = sum.wall_seconds;
   if (spec.loading.type == "cooks_membrane" && !tip.empty()) s.highlights.push_back({"tip_mm", 1e3 * tip.back()});
   if (spec.loading.type == "vibration") {
-    const RingDown rd = analyse_ring_down(times, tip);
+    // The ring-down starts at the release.
+    std::vector<double> tt, xx;
+    for (size_t i = 0; i < times.size(); ++i)
+      if (times[i] >= spec.loading.release - 1e-12) {
+        tt.push_back(times[i]);
+        xx.push_back(tip[i]);
+      }
+    const RingDown rd = analyse_ring_down(tt, xx);
     s.highlights.push_back({"f1_Hz", rd.frequency});
     s.highlights.push_back({"zeta", rd.damping_ratio});
     if (writer) {

@@ -73,7 +73,13 @@ MsdProblem compile_msd(const Spec& spec) {
   // Paths: strain (uniaxial), shear strain (simple_shear), load factor (static);
   // vibration holds its loads (gravity, if any) at factor 1.
   std::vector<std::pair<double, double>> path = l.path;
-  if (l.type == "vibration") path = {{0.0, 1.0}, {l.duration, 1.0}};
+  if (l.type == "vibration") {
+    // Load factor: gravity (if any) throughout; a preload ramps over the first
+    // half of [0, release], holds, and is removed at the release.
+    path = {{0.0, 1.0}, {l.release + l.duration, 1.0}};
+    if (l.initial == "preload")
+      path = {{0.0, 0.0}, {0.5 * l.release, 1.0}, {l.release, 1.0}, {l.release * (1 + 1e-9), 0.0}, {l.release + l.duration, 0.0}};
+  }
   MsdProblem p{make_sample_mesh(spec), {}, msd::LoadingPath(path, spec.path + ": loading.path"), {}, l.type,
                {}, {}, {}, 0.0, {}};
   msd::ModelOptions o;
@@ -113,14 +119,17 @@ MsdProblem compile_msd(const Spec& spec) {
                  {"kinetic_energy", "J"}};
   } else if (l.type == "vibration") {
     p.clamp = msd::add_clamp(mesh, msd::Face::Bottom, o);
+    if (l.initial == "preload")
+      o.external_force = msd::face_load(mesh, msd::face_nodes(mesh, msd::parse_face(l.traction_face)), l.traction);
     p.columns = {{"time", "s"}, {"tip_displacement", "m"}, {"kinetic_energy", "J"}, {"volume_ratio", "1"},
                  {"inverted_elements", "1"}};
   } else {
     throw msd::Error(spec.path + ": loading.type '" + l.type + "' is not supported by the msd solver");
   }
   p.model = msd::build_model(mesh, o);
-  p.initial = l.type == "vibration" ? msd::displaced_state(p.model, l.initial == "axial_mode", l.amplitude)
-                                    : msd::rest_state(p.model);
+  p.initial = l.type == "vibration" && l.initial != "preload"
+                  ? msd::displaced_state(p.model, l.initial == "axial_mode", l.amplitude)
+                  : msd::rest_state(p.model);
   if (l.type == "vibration") {
     // The clamped base must start at rest with the field it prescribes (zero).
     for (int n : p.model.groups.at(static_cast<size_t>(p.clamp.clamp_group)).nodes)
@@ -296,7 +305,13 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
   s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (s.complete) s.steps = stats.steps;
   if (p.loading == "vibration") {
-    const RingDown rd = analyse_ring_down(times, tip);
+    std::vector<double> tt, xx;  // the ring-down starts at the release
+    for (size_t i = 0; i < times.size(); ++i)
+      if (times[i] >= spec.loading.release - 1e-12) {
+        tt.push_back(times[i]);
+        xx.push_back(tip[i]);
+      }
+    const RingDown rd = analyse_ring_down(tt, xx);
     s.highlights = {{"f1_Hz", rd.frequency}, {"zeta", rd.damping_ratio}};
     out.set_metric("first_frequency", rd.frequency);
     out.set_metric("damping_ratio", rd.damping_ratio);

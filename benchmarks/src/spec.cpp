@@ -289,13 +289,26 @@ LoadingSpec parse_loading(const Fields& f) {
     }
     l.path = f.has("path") ? parse_path(f) : std::vector<std::pair<double, double>>{{0.0, 0.0}, {1.0, 1.0}};
   } else {
-    f.only({"type", "initial", "amplitude", "duration", "gravity"});
+    f.only({"type", "initial", "amplitude", "traction", "release", "duration", "gravity"});
     l.initial = f.text_or("initial", l.initial);
-    one_of(f, "initial", l.initial, {"axial_mode", "axial_stretch"});
-    l.amplitude = f.number("amplitude");
+    one_of(f, "initial", l.initial, {"axial_mode", "axial_stretch", "preload"});
     l.duration = f.number("duration");
     positive(f, "duration", l.duration, "s");
-    l.path = {{0.0, 0.0}, {l.duration, 0.0}};
+    if (l.initial == "preload") {
+      // "Stretch, release, ring down": a dead load on a face, ramped over the
+      // first half of [0, release], held, and removed at `release`.
+      auto t = f.section("traction");
+      t.only({"face", "force"});
+      l.traction_face = t.text("face");
+      one_of(t, "face", l.traction_face, faces);
+      l.traction = vec3(t, "force");
+      l.release = f.number("release");
+      positive(f, "release", l.release, "s");
+      if (f.has("amplitude")) throw msd::Error(f.where("amplitude") + "not used with 'initial: preload'");
+    } else {
+      l.amplitude = f.number("amplitude");
+    }
+    l.path = {{0.0, 0.0}, {l.release + l.duration, 0.0}};
   }
   if (f.has("gravity")) l.gravity = vec3(f, "gravity");
   return l;

@@ -108,7 +108,9 @@ class Solver {
   void solve_linear(LA::SparseMatrix& A, LA::MPI::Vector& x, const LA::MPI::Vector& b);
 
   // @sect4{Quasi-static and dynamic drivers}
-  void run_quasi_static();
+  void run_quasi_static(const std::vector<double>& report_times);
+  /// Report times of the preload phase: every report interval up to the release.
+  std::vector<double> preload_times() const;
   bool newton_increment(double t0, double t1, unsigned& iterations);
   void run_dynamic();
 
@@ -154,6 +156,7 @@ class Solver {
   std::vector<Point<3>> probe_points, pin_points;
 
   Summary summary;
+  std::vector<Traction> active_tractions;  // the dead surface loads in force now
   double last_min_J = 1.0;
   unsigned newton_since_report = 0, cuts_since_report = 0;
   double next_fields_time = 0.0;
@@ -374,7 +377,7 @@ Solver::Assembled Solver::assemble(const LA::MPI::Vector& u, double t, const Aff
   Assembled result;
   // Traction densities (nominal) per face.
   std::map<int, Tensor<1, 3>> traction;
-  for (const auto& tr : P.tractions) {
+  for (const auto& tr : active_tractions) {
     const double area = face_area[static_cast<size_t>(tr.face)];
     Tensor<1, 3> td;
     for (unsigned i = 0; i < 3; ++i) td[i] = tr.total_force[i] * tr.path(t) / area;
@@ -644,7 +647,15 @@ bool Solver::newton_increment(double t0, double t1, unsigned& iterations) {
   return true;
 }
 
-void Solver::run_quasi_static() {
+std::vector<double> Solver::preload_times() const {
+  std::vector<double> t;
+  const double end = P.dynamics.release_time;
+  const long n = std::max(1L, std::lround(end / P.report_interval));
+  for (long k = 1; k <= n; ++k) t.push_back(end * static_cast<double>(k) / static_cast<double>(n));
+  return t;
+}
+
+void Solver::run_quasi_static(const std::vector<double>& report_times) {
   double t = 0.0;
   {
     // The reference state, reported at t = 0 (nothing applied yet unless a
@@ -653,7 +664,7 @@ void Solver::run_quasi_static() {
     if (cb.on_report && Utilities::MPI::this_mpi_process(comm) == 0) cb.on_report(r);
   }
   double step = 0.0;
-  for (double target : P.report_times) {
+  for (double target : report_times) {
     if (target < t - 1e-12) throw Error("fem: report times must not decrease");
     while (t < target - 1e-14 * std::max(1.0, std::abs(target))) {
       double dt = target - t;
@@ -688,7 +699,7 @@ void Solver::run_quasi_static() {
     const Report r = measure(t, u_owned, nullptr);
     last_min_J = r.min_jacobian;
     if (cb.on_report && Utilities::MPI::this_mpi_process(comm) == 0) cb.on_report(r);
-    if (cb.progress && Utilities::MPI::this_mpi_process(comm) == 0) cb.progress(t, P.report_times.back());
+    if (cb.progress && Utilities::MPI::this_mpi_process(comm) == 0) cb.progress(t, report_times.back());
   }
 }
 
@@ -703,23 +714,26 @@ void Solver::run_dynamic() {
   const std::vector<IndexSet> parts{owned, owned};
   LA::MPI::Vector u_ghost(owned, relevant, comm), tmp(owned, comm), du(owned, comm);
 
-  // Initial displacement.
+  // Initial displacement (a preload has already left its equilibrium in u_owned).
   const double L = P.mesh.shape == MeshSpec::Shape::Cylinder ? P.mesh.height : P.mesh.size[2];
   const double A = P.dynamics.amplitude;
   const auto initial = P.dynamics.initial;
-  VectorFunctionFromScalarFunctionObject<3> field(
-      [&](const Point<3>& p) {
-        if (initial == Dynamics::Initial::AxialMode) return A * 2.0 * L / M_PI * std::sin(M_PI * p[2] / (2.0 * L));
-        if (initial == Dynamics::Initial::AxialStretch) return A * p[2];
-        return 0.0;
-      },
-      2, 3);
-  VectorTools::interpolate(mapping, dof, field, u_owned);
-  zero_constraints.distribute(u_owned);
+  if (initial != Dynamics::Initial::Preload) {
+    VectorFunctionFromScalarFunctionObject<3> field(
+        [&](const Point<3>& p) {
+          if (initial == Dynamics::Initial::AxialMode) return A * 2.0 * L / M_PI * std::sin(M_PI * p[2] / (2.0 * L));
+          if (initial == Dynamics::Initial::AxialStretch) return A * p[2];
+          return 0.0;
+        },
+        2, 3);
+    VectorTools::interpolate(mapping, dof, field, u_owned);
+    zero_constraints.distribute(u_owned);
+  }
+  const double t_start = initial == Dynamics::Initial::Preload ? P.dynamics.release_time : 0.0;
 
   assemble_mass_matrix();
   u_ghost = u_owned;
-  assemble(u_ghost, 0.0, zero_constraints, true);
+  assemble(u_ghost, t_start, zero_constraints, true);
   C.copy_from(M);
   C *= P.dynamics.rayleigh_mass;
   C.add(P.dynamics.rayleigh_stiffness, K);
@@ -741,7 +755,7 @@ void Solver::run_dynamic() {
     return s;
   }();
 
-  SUNDIALS::IDA<BV>::AdditionalData data(0.0, P.dynamics.end_time, P.report_interval * 1e-2, P.report_interval,
+  SUNDIALS::IDA<BV>::AdditionalData data(t_start, P.dynamics.end_time, P.report_interval * 1e-2, P.report_interval,
                                          1e-14, 5, 10, 0.0, P.dynamics.absolute_tolerance,
                                          P.dynamics.relative_tolerance, false,
                                          SUNDIALS::IDA<BV>::AdditionalData::none,
@@ -804,7 +818,20 @@ void Solver::run_dynamic() {
     dst.compress(VectorOperation::insert);
     return 0;
   };
+  // deal.II's IDA loop ignores IDA errors in release builds and would then
+  // report the same time for ever: a time that stops advancing is a failure.
+  double last_output = -1e300;
+  int stuck = 0;
   ida.output_step = [&](const double t, const BV& yy, const BV&, const unsigned) {
+    stuck = t > last_output ? 0 : stuck + 1;
+    last_output = std::max(last_output, t);
+    if (stuck > 2) {
+      summary.wall_seconds = seconds_since(start);
+      throw SolveError("fem: SUNDIALS IDA could not advance past t = " + std::to_string(t) +
+                           " s (step sizes collapsed; try looser tolerances or a smoother start)",
+                       t, summary);
+    }
+    if (t <= t_start && initial == Dynamics::Initial::Preload) return;  // reported by the preload
     const Report r = measure(t, yy.block(0), &yy.block(1));
     if (cb.on_report && Utilities::MPI::this_mpi_process(comm) == 0) cb.on_report(r);
     if (cb.progress && Utilities::MPI::this_mpi_process(comm) == 0) cb.progress(t, P.dynamics.end_time);
@@ -1021,8 +1048,15 @@ Summary Solver::run() {
   start = Clock::now();
   check_problem();
   setup();
+  active_tractions = P.tractions;
+  if (P.dynamic && P.dynamics.initial == Dynamics::Initial::Preload) {
+    // The preloaded equilibrium, reported like a quasi-static run.
+    active_tractions = P.dynamics.preload;
+    run_quasi_static(preload_times());
+    active_tractions = P.tractions;
+  }
   if (P.dynamic) run_dynamic();
-  else run_quasi_static();
+  else run_quasi_static(P.report_times);
   summary.wall_seconds = seconds_since(start);
   return summary;
 }

@@ -84,7 +84,8 @@ struct LoadingSpec {
   /// and gravity).
   std::vector<std::pair<double, double>> path;
   double force = 0.0;                     ///< cooks_membrane: total shear force, N
-  std::string initial = "axial_mode";     ///< vibration: axial_mode | axial_stretch
+  std::string initial = "axial_mode";     ///< vibration: axial_mode | axial_stretch | preload
+  double release = 0.0;                   ///< vibration with preload: release time, s
   double amplitude = 0.0;                 ///< vibration: strain amplitude
   double duration = 0.0;                  ///< vibration: s
   Eigen::Vector3d gravity{Eigen::Vector3d::Zero()};

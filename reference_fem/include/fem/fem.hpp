@@ -106,11 +106,15 @@ struct NewtonSettings {
   unsigned max_cuts = 8;              ///< halvings of a failed load increment
 };
 
-/// Free vibration: initial displacement, then the solution evolves with fixed
-/// Dirichlet data and constant loads.
+/// Free vibration: an initial displacement - a prescribed axial field, or the
+/// static equilibrium under `preload` tractions, solved quasi-statically and
+/// reported over [0, release_time] - then the solution evolves from rest at
+/// release_time with fixed Dirichlet data and the `tractions` of the problem.
 struct Dynamics {
-  enum class Initial { Rest, AxialMode, AxialStretch } initial = Initial::Rest;
+  enum class Initial { Rest, AxialMode, AxialStretch, Preload } initial = Initial::Rest;
   double amplitude = 0.0;          ///< strain amplitude of the initial field
+  std::vector<Traction> preload;   ///< Preload: dead loads before the release
+  double release_time = 0.0;       ///< s; dynamics start here
   double end_time = 0.0;           ///< s
   double rayleigh_mass = 0.0;      ///< C = a M + b K0
   double rayleigh_stiffness = 0.0;
