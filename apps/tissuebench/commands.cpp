@@ -2,11 +2,14 @@
 
 #include "progress.hpp"
 
+#include "bench/calibration.hpp"
 #include "bench/compare.hpp"
 #include "bench/convergence.hpp"
 #include "bench/fem_runner.hpp"
 #include "bench/msd_runner.hpp"
 #include "bench/results_file.hpp"
+#include "bench/stability.hpp"
+#include "bench/sweep.hpp"
 #include "fem/fem.hpp"
 #include "msd/forces/element_forces.hpp"
 
@@ -75,7 +78,14 @@ int report(const bench::Spec& spec, const bench::RunSummary& s) {
 }  // namespace
 
 int cmd_run(const RunArgs& args) {
-  const bench::Spec spec = bench::load_spec(args.spec);
+  bench::Spec spec = bench::load_spec(args.spec);
+  if (!args.calibration.empty()) {
+    if (!spec.msd) throw msd::Error(args.spec + ": --calibration needs an msd section in the spec");
+    if (!spec.msd->calibration.empty())
+      throw msd::Error(args.spec + ": the spec already names a calibration (msd.calibration); --calibration would "
+                       "override it silently");
+    bench::apply_calibration(spec, args.calibration, "--calibration: ");
+  }
   ProgressLine progress(spec.name + " (" + args.solver + ")", !args.quiet && root());
   auto tick = [&](double t, double end) { progress.update(t, end); };
   if (args.solver == "msd") {
@@ -106,6 +116,107 @@ int cmd_run(const RunArgs& args) {
     std::printf("%scomparison: %s\n", bench::format_comparison(c).c_str(), json.c_str());
   }
   return std::max(a, b);
+}
+
+int cmd_calibrate(const CalibrateArgs& args) {
+  if (fem::Session::size() > 1) throw msd::Error("calibrate runs on one process (no mpirun)");
+  std::vector<std::string> specs = args.specs;
+  if (specs.empty())
+    for (const char* n : {"calibrate_uniaxial.yaml", "calibrate_shear.yaml"})
+      specs.push_back((fs::path(TISSUEBENCH_SPECS_DIR) / n).string());
+  auto log = [&](const std::string& line) {
+    if (!args.quiet) std::printf("%s\n", line.c_str()), std::fflush(stdout);
+  };
+  const bench::CalibrationResult r = bench::calibrate(args.material, specs, args.out, {}, log,
+                                                      args.max_evaluations, args.volume_weight);
+  const std::string file = (fs::path(args.out) / (args.material + ".yaml")).string();
+  bench::write_calibration(r, file);
+  std::printf("Calibration of %s: %s after %d iterations, %d evaluations\n", r.material.c_str(),
+              r.optimiser_status.c_str(), r.iterations, r.evaluations);
+  std::printf("%-20s %10s %10s\n", "parameter", "before", "after");
+  std::printf("%-20s %10.4g %10.4g\n", "stiffness_scale", r.before.stiffness_scale, r.after.stiffness_scale);
+  std::printf("%-20s %10.4g %10.4g\n", "repulsion_factor", r.before.repulsion_factor, r.after.repulsion_factor);
+  std::printf("%-20s %10.4g %10.4g\n", "volume_factor", r.before.volume_factor, r.after.volume_factor);
+  std::printf("%-20s %10.4g %10.4g\n", "objective", r.objective_before, r.objective_after);
+  std::printf("%-20s %-16s %12s %12s %12s %12s\n", "spec", "series", "relRMS before", "relRMS after",
+              "dV max before", "dV max after");
+  for (const auto& s : r.specs)
+    std::printf("%-20s %-16s %12.4f %12.4f %12.4f %12.4f\n", s.spec.c_str(), s.load_series.c_str(),
+                s.rel_rms_before, s.rel_rms_after, s.volume_max_error_before, s.volume_max_error_after);
+  std::printf("calibration: %s (use: tissuebench run SPEC --calibration %s, or msd.calibration in a spec)\n",
+              file.c_str(), file.c_str());
+  return 0;
+}
+
+int cmd_sweep(const SweepArgs& args) {
+  const bench::Spec spec = bench::load_spec(args.spec);
+  bench::SweepGrid g;
+  g.spacing = args.spacing;
+  g.dt = args.dt;
+  g.integrators = args.integrators;
+  g.term_sets = args.terms;
+  for (const auto& t : args.thresholds) {
+    if (t == "off") {
+      g.thresholds.push_back(0.0);
+      continue;
+    }
+    try {
+      g.thresholds.push_back(std::stod(t));
+    } catch (const std::exception&) {
+      throw msd::Error("--thresholds: '" + t + "' is neither 'off' nor a number");
+    }
+  }
+  g.cvode = !args.no_cvode;
+  bench::SweepOptions o;
+  o.out_dir = args.out;
+  o.reference = args.reference;
+  o.executable = fs::canonical("/proc/self/exe").string();
+  if (!args.quiet)
+    o.log = [](const std::string& line) {
+      std::printf("%s\n", line.c_str());
+      std::fflush(stdout);
+    };
+  const bench::SweepResult r = bench::run_sweep(spec, g, o);
+  if (!root()) return 0;
+  const std::string json = (fs::path(args.out) / (spec.name + "_sweep.json")).string();
+  const std::string csv = (fs::path(args.out) / (spec.name + "_sweep.csv")).string();
+  bench::write_sweep_json(r, json);
+  bench::write_sweep_csv(r, csv);
+  std::printf("%s", bench::format_sweep(r).c_str());
+  std::printf("sweep: %s (and %s)\n", json.c_str(), csv.c_str());
+  return 0;
+}
+
+int cmd_stability(const StabilityArgs& args) {
+  if (!root()) return 0;  // the MSD model runs on one process
+  const bench::Spec spec = bench::load_spec(args.spec);
+  for (const auto& t : args.terms) bench::term_set(t);  // bad names fail before anything runs
+  std::function<void(const std::string&)> log;
+  if (!args.quiet)
+    log = [](const std::string& line) {
+      std::printf("%s\n", line.c_str());
+      std::fflush(stdout);
+    };
+  std::vector<bench::DtSearch> searches;
+  std::vector<bench::ExtremeRow> extremes;
+  if (!args.no_dt_search)
+    for (const auto& i : args.integrators) {
+      msd::parse_integrator(i);
+      for (const auto& t : args.terms) searches.push_back(bench::search_dt(spec, i, t, {}, log));
+    }
+  if (!args.no_extremes) extremes = bench::run_extremes(spec, args.terms, log);
+  fs::create_directories(args.out);
+  const std::string json = (fs::path(args.out) / (spec.name + "_stability.json")).string();
+  bench::write_stability_json(spec.name, searches, extremes, json);
+  if (!searches.empty())
+    std::printf("Largest stable time step of %s (h = %g m; detector: non-finite / blow-up, energy growth x10, "
+                "unrecoverable inversion)\n%s",
+                spec.name.c_str(), spec.mesh ? spec.mesh->spacing : 0.0, bench::format_dt_searches(searches).c_str());
+  if (!extremes.empty())
+    std::printf("Extreme loads of %s (load: %s)\n%s", spec.name.c_str(),
+                spec.loading.type == "uniaxial" ? "nominal stress, Pa" : "-", bench::format_extremes(extremes).c_str());
+  std::printf("stability: %s\n", json.c_str());
+  return 0;
 }
 
 int cmd_compare(const CompareArgs& args) {

@@ -9,6 +9,7 @@ namespace app {
 
 struct RunArgs {
   std::string spec, out, solver = "msd";
+  std::string calibration;  ///< calibration file for the msd solver ("" = the spec's constants)
   bool quiet = false;
 };
 int cmd_run(const RunArgs& args);
@@ -37,6 +38,31 @@ struct CompareArgs {
   std::string msd, fem, json;
 };
 int cmd_compare(const CompareArgs& args);
+
+struct CalibrateArgs {
+  std::string material, out = "calibration";
+  std::vector<std::string> specs;  ///< empty: the built-in calibrate_uniaxial and calibrate_shear
+  int max_evaluations = 40;
+  double volume_weight = 2.0;
+  bool quiet = false;
+};
+int cmd_calibrate(const CalibrateArgs& args);
+
+struct SweepArgs {
+  std::string spec, out = "sweep", reference;
+  std::vector<double> spacing, dt;
+  std::vector<std::string> integrators, terms, thresholds;
+  bool no_cvode = false, quiet = false;
+};
+int cmd_sweep(const SweepArgs& args);
+
+struct StabilityArgs {
+  std::string spec, out = "stability";
+  std::vector<std::string> integrators{"explicit_euler", "symplectic_euler", "velocity_verlet"};
+  std::vector<std::string> terms{"springs_dampers", "all"};
+  bool no_dt_search = false, no_extremes = false, quiet = false;
+};
+int cmd_stability(const StabilityArgs& args);
 
 /// The specs of the default suite (the thesis' three uni-axial experiments).
 std::vector<std::string> default_suite();

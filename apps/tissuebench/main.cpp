@@ -31,6 +31,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"msd", "fem", "both"}))
       ->capture_default_str();
   run_cmd->add_flag("--quiet", run.quiet, "No progress line");
+  run_cmd->add_option("--calibration", run.calibration,
+                      "Calibration file (tissuebench calibrate) for the msd solver's physical constants")
+      ->check(CLI::ExistingFile);
 
   app::SuiteArgs suite;
   auto* suite_cmd = cli.add_subcommand(
@@ -63,6 +66,74 @@ int main(int argc, char** argv) {
   compare_cmd->add_option("fem", compare.fem, "FEM results file (HDF5)")->required()->check(CLI::ExistingFile);
   compare_cmd->add_option("--json", compare.json, "Write the metrics as JSON (keys: benchmarks/RESULTS.md)");
 
+  app::CalibrateArgs calibrate;
+  auto* calibrate_cmd = cli.add_subcommand(
+      "calibrate", "Fit a material's MSD constants (stiffness scale, repulsion and volume factors) to the FEM "
+                   "reference over the uni-axial and shear calibration specs");
+  calibrate_cmd->add_option("--material", calibrate.material, "Material (an entry of benchmarks/materials.yaml)")
+      ->required();
+  calibrate_cmd->add_option("--out", calibrate.out, "Folder for NAME.yaml and the FEM references")
+      ->capture_default_str();
+  calibrate_cmd->add_option("--specs", calibrate.specs,
+                            "Calibration specs (uniaxial or simple_shear; default: the built-in "
+                            "calibrate_uniaxial.yaml and calibrate_shear.yaml)")
+      ->delimiter(',')
+      ->check(CLI::ExistingFile);
+  calibrate_cmd->add_option("--max-evaluations", calibrate.max_evaluations,
+                            "Budget of objective evaluations for the optimiser")
+      ->check(CLI::Range(4, 1000))
+      ->capture_default_str();
+  calibrate_cmd->add_option("--volume-weight", calibrate.volume_weight,
+                            "Weight w of the uni-axial volume-ratio residual w (V_msd - V_fem) against the "
+                            "relative stress residuals (0: stress only)")
+      ->check(CLI::Range(0.0, 1e3))
+      ->capture_default_str();
+  calibrate_cmd->add_flag("--quiet", calibrate.quiet, "No per-evaluation lines");
+
+  app::SweepArgs sweep;
+  auto* sweep_cmd = cli.add_subcommand(
+      "sweep", "Speed-accuracy trade: run the MSD model over a grid of h, dt, integrator, force terms and the "
+               "0.7 threshold; errors against the FEM reference, cost, Pareto front (mpirun -np N spreads the "
+               "points)");
+  sweep_cmd->add_option("spec", sweep.spec, "Test specification (YAML)")->required()->check(CLI::ExistingFile);
+  sweep_cmd->add_option("--out", sweep.out, "Folder for the points, the FEM reference and the merged table")
+      ->capture_default_str();
+  sweep_cmd->add_option("--spacing", sweep.spacing, "Mesh spacings h in m (default: the spec's h and 2h)")
+      ->delimiter(',');
+  sweep_cmd->add_option("--dt", sweep.dt, "Time steps in s (default: the spec's dt and 2.5 dt)")->delimiter(',');
+  sweep_cmd->add_option("--integrators", sweep.integrators,
+                        "Fixed-step integrators (default: symplectic_euler,velocity_verlet,explicit_euler)")
+      ->delimiter(',');
+  sweep_cmd->add_option("--terms", sweep.terms,
+                        "Term sets: all, no_repulsion, no_volume, springs_dampers (default: all four)")
+      ->delimiter(',');
+  sweep_cmd->add_option("--thresholds", sweep.thresholds, "Non-linear thresholds: off or a value in (0,1] "
+                                                          "(default: off,0.7)")
+      ->delimiter(',');
+  sweep_cmd->add_flag("--no-cvode", sweep.no_cvode,
+                      "Leave out the CVODE point of each spatial configuration (no time errors)");
+  sweep_cmd->add_option("--reference", sweep.reference,
+                        "An existing FEM results file of the same spec (default: computed into --out, reused "
+                        "when the spec is unchanged)")
+      ->check(CLI::ExistingFile);
+  sweep_cmd->add_flag("--quiet", sweep.quiet, "No per-point lines");
+
+  app::StabilityArgs stability;
+  auto* stability_cmd = cli.add_subcommand(
+      "stability", "Stability at the extremes: largest stable time step per integrator and term set (bisection "
+                   "with a blow-up detector) and extreme loads (uniaxial specs)");
+  stability_cmd->add_option("spec", stability.spec, "Test specification (YAML)")->required()->check(CLI::ExistingFile);
+  stability_cmd->add_option("--out", stability.out, "Folder for the JSON table")->capture_default_str();
+  stability_cmd->add_option("--integrators", stability.integrators, "Integrators of the dt search")
+      ->delimiter(',')
+      ->capture_default_str();
+  stability_cmd->add_option("--terms", stability.terms, "Term sets (all, no_repulsion, no_volume, springs_dampers)")
+      ->delimiter(',')
+      ->capture_default_str();
+  stability_cmd->add_flag("--no-dt-search", stability.no_dt_search, "Skip the time-step bisection");
+  stability_cmd->add_flag("--no-extremes", stability.no_extremes, "Skip the extreme loads");
+  stability_cmd->add_flag("--quiet", stability.quiet, "No per-trial lines");
+
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -74,6 +145,9 @@ int main(int argc, char** argv) {
     if (*inspect_cmd) return app::cmd_inspect(inspect);
     if (*converge_cmd) return app::cmd_converge(converge);
     if (*compare_cmd) return app::cmd_compare(compare);
+    if (*calibrate_cmd) return app::cmd_calibrate(calibrate);
+    if (*sweep_cmd) return app::cmd_sweep(sweep);
+    if (*stability_cmd) return app::cmd_stability(stability);
   } catch (const msd::Error& e) {
     if (fem::Session::rank() == 0) std::cerr << "tissuebench: error: " << e.what() << "\n";
     return 2;

@@ -39,7 +39,7 @@ const std::vector<double>& series(const Results& r, const std::string& name, con
 
 }  // namespace
 
-Comparison compare_results(const std::string& msd_file, const std::string& fem_file) {
+Comparison compare_results(const std::string& msd_file, const std::string& fem_file, bool displacement_field) {
   const Results m = read_results(msd_file), f = read_results(fem_file);
   for (const auto& [r, file, solver] : {std::tuple<const Results&, const std::string&, const char*>{m, msd_file, "msd"},
                                         {f, fem_file, "fem"}}) {
@@ -118,7 +118,7 @@ Comparison compare_results(const std::string& msd_file, const std::string& fem_f
   if (nw > 0 && sum_fw > 0) c.load_rel_rms_working = std::sqrt(sum_dw / sum_fw);
 
   // Displacement field at the MSD nodes.
-  if (m.point_sets.count("nodes") && f.point_sets.count("probes")) {
+  if (displacement_field && m.point_sets.count("nodes") && f.point_sets.count("probes")) {
     const PointSetData a = read_point_set(msd_file, "nodes"), b = read_point_set(fem_file, "probes");
     if (a.points.size() != b.points.size())
       throw msd::Error("compare: " + fem_file + " holds the FEM solution at " + std::to_string(b.points.size()) +

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
+#include <limits>
 
 namespace bench {
 
@@ -81,7 +83,7 @@ MsdProblem compile_msd(const Spec& spec) {
       path = {{0.0, 0.0}, {0.5 * l.release, 1.0}, {l.release, 1.0}, {l.release * (1 + 1e-9), 0.0}, {l.release + l.duration, 0.0}};
   }
   MsdProblem p{make_sample_mesh(spec), {}, msd::LoadingPath(path, spec.path + ": loading.path"), {}, l.type,
-               {}, {}, {}, 0.0, {}};
+               {}, {}, {}, 0.0, {}, false, {}};
   msd::ModelOptions o;
   o.terms = 0;
   for (const auto& t : ms.terms) o.terms |= msd::parse_force_term(t);
@@ -135,10 +137,15 @@ MsdProblem compile_msd(const Spec& spec) {
     for (int n : p.model.groups.at(static_cast<size_t>(p.clamp.clamp_group)).nodes)
       p.initial.x.col(n) = p.model.rest_positions.col(n);
   }
-  p.stepping.dt = ms.dt;
-  p.stepping.integrator = msd::parse_integrator(ms.integrator);
+  p.cvode = ms.integrator == "cvode";
+  p.stepping.dt = p.cvode ? spec.output.interval : ms.dt;
+  p.stepping.integrator = p.cvode ? msd::Integrator::SymplecticEuler : msd::parse_integrator(ms.integrator);
   p.stepping.output_interval = spec.output.interval;
-  if (spec.output.interval < ms.dt)
+  p.cvode_options.rtol = ms.rtol;
+  p.cvode_options.atol_position = ms.atol;
+  p.cvode_options.time_scale = spec.output.interval;
+  p.cvode_options.output_interval = spec.output.interval;
+  if (!p.cvode && spec.output.interval < ms.dt)
     throw msd::Error(spec.path + ": output.interval (" + std::to_string(spec.output.interval) +
                      " s) is shorter than msd.dt (" + std::to_string(ms.dt) + " s)");
   return p;
@@ -211,8 +218,24 @@ std::vector<std::pair<std::string, double>> material_record(const Spec& spec,
   return r;
 }
 
+namespace {
+
+// A field of /proc/self/status in MB (VmRSS: resident now, VmHWM: peak); NaN
+// where the file does not exist.
+double proc_status_mb(const char* key) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  const std::string k = std::string(key) + ":";
+  while (std::getline(in, line))
+    if (line.rfind(k, 0) == 0) return std::stod(line.substr(k.size())) / 1024.0;  // kB
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace
+
 RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress& progress) {
   const MsdSpec& ms = msd_section(spec);
+  const double rss_start = proc_status_mb("VmRSS");
   MsdProblem p = compile_msd(spec);  // every input error surfaces here, before any file exists
   const auto parent = std::filesystem::path(out_path).parent_path();
   if (!parent.empty()) std::filesystem::create_directories(parent);
@@ -224,10 +247,13 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
   meta.spec_name = spec.name;
   meta.material = material_record(spec, p.model);
   meta.text = {{"terms", msd::force_terms_to_string(p.model.terms)},
-               {"integrator", msd::to_string(p.stepping.integrator)},
+               {"integrator", p.cvode ? "cvode (BDF, rtol " + std::to_string(ms.rtol) + ", atol " +
+                                            std::to_string(ms.atol) + " m)"
+                                      : msd::to_string(p.stepping.integrator)},
                {"mass_lumping", ms.mass_lumping},
                {"mesh_rule", spec.mesh->rule},
                {"test", spec.loading.type + (spec.loading.type == "uniaxial" ? " (" + spec.loading.platens + " platens)" : "")}};
+  if (!spec.msd->calibration.empty()) meta.text.emplace_back("calibration", spec.msd->calibration);
   ResultsWriter out(out_path, meta, p.columns);
   out.set_meta("mesh_counts", "nodes " + std::to_string(p.model.num_nodes()) + ", tets " +
                                   std::to_string(p.model.num_elements()) + ", cubes " +
@@ -296,7 +322,7 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
       if (progress) progress(r[0], end);
       return true;
     }, frame);
-    stats = msd::run_experiment(p.model, p.initial, end, p.size, p.stepping, hooks);
+    stats = integrate_msd(p, hooks);
     s.complete = true;
   } catch (const msd::SimulationFailure& f) {
     s.failure = f.what();
@@ -318,9 +344,24 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
     out.set_metric("zero_crossings", rd.crossings);
   }
   out.set_timing(s.wall_seconds, s.steps, p.stepping.dt, 1);
+  // Memory of the run: the process peak and the peak above the resident size
+  // before the model was built (the model, its state and the results buffers).
+  const double hwm = proc_status_mb("VmHWM");
+  out.set_timing_detail("peak_rss_mb", hwm);
+  out.set_timing_detail("model_rss_mb", hwm - rss_start);
   if (s.complete) out.finish();
   else out.fail(s.failure);
   return s;
+}
+
+msd::RunStats integrate_msd(const MsdProblem& p, const msd::ExperimentHooks& hooks) {
+  const double end = p.path.end_time();
+  if (!p.cvode) return msd::run_experiment(p.model, p.initial, end, p.size, p.stepping, hooks);
+  const CvodeStats c = run_experiment_cvode(p.model, p.initial, end, p.size, p.cvode_options, hooks);
+  msd::RunStats r;
+  r.steps = c.steps;
+  r.simulated_seconds = c.simulated_seconds;
+  return r;
 }
 
 }  // namespace bench

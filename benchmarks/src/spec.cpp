@@ -1,5 +1,7 @@
 #include "bench/spec.hpp"
 
+#include "bench/calibration.hpp"
+
 #include "bench/yaml_fields.hpp"
 #include "msd/core/types.hpp"
 
@@ -9,6 +11,8 @@
 #include <sstream>
 
 namespace bench {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -133,7 +137,7 @@ MaterialSpec parse_material(const Fields& given) {
 MsdSpec parse_msd(const Fields& f) {
   f.only({"constants", "k_s", "k_d", "k_r", "k_v", "stiffness_scale", "repulsion_factor",
           "volume_factor", "repulsion_floor", "mass_lumping", "terms", "nonlinear_threshold",
-          "integrator", "dt"});
+          "integrator", "dt", "calibration", "rtol", "atol"});
   MsdSpec m;
   m.constants = f.text_or("constants", m.constants);
   one_of(f, "constants", m.constants, {"raw", "physical"});
@@ -141,9 +145,15 @@ MsdSpec parse_msd(const Fields& f) {
   for (const char* k : {"k_s", "k_d", "k_r", "k_v"})
     if (!raw && f.has(k))
       throw msd::Error(f.where(k) + "raw constants need 'constants: raw'");
-  for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor"})
+  for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "calibration"})
     if (raw && f.has(k))
       throw msd::Error(f.where(k) + "only meaningful with 'constants: physical'");
+  if (f.has("calibration")) {
+    for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor"})
+      if (f.has(k))
+        throw msd::Error(f.where(k) + "given together with 'calibration', which sets it; give one or the other");
+    m.calibration = f.text("calibration");
+  }
   if (raw) {
     m.k_s = f.number("k_s");
     positive(f, "k_s", m.k_s, "N/m");
@@ -182,9 +192,19 @@ MsdSpec parse_msd(const Fields& f) {
   }
   m.integrator = f.text_or("integrator", m.integrator);
   one_of(f, "integrator", m.integrator,
-         {"explicit_euler", "symplectic_euler", "semi_implicit_euler", "velocity_verlet"});
-  m.dt = f.number("dt");
-  positive(f, "dt", m.dt, "s");
+         {"explicit_euler", "symplectic_euler", "semi_implicit_euler", "velocity_verlet", "cvode"});
+  if (m.integrator == "cvode") {
+    m.rtol = f.number_or("rtol", m.rtol);
+    m.atol = f.number_or("atol", m.atol);
+    positive(f, "rtol", m.rtol, "dimensionless");
+    positive(f, "atol", m.atol, "m");
+    if (f.has("dt")) throw msd::Error(f.where("dt") + "cvode chooses its own steps (give rtol and atol instead)");
+  } else {
+    for (const char* k : {"rtol", "atol"})
+      if (f.has(k)) throw msd::Error(f.where(k) + "only meaningful with 'integrator: cvode'");
+    m.dt = f.number("dt");
+    positive(f, "dt", m.dt, "s");
+  }
   return m;
 }
 
@@ -344,6 +364,11 @@ Spec parse_spec(const std::string& text, const std::string& source) {
     positive(*o, "interval", s.output.interval, "s");
     s.output.fields_interval = o->number_or("fields_interval", 0.0);
     if (s.output.fields_interval < 0.0) throw msd::Error(o->where("fields_interval") + "must be >= 0 (s)");
+  }
+  if (s.msd && !s.msd->calibration.empty()) {
+    fs::path file = s.msd->calibration;
+    if (file.is_relative()) file = fs::path(source).parent_path() / file;
+    apply_calibration(s, file.string(), f.section("msd").where("calibration"));
   }
   if (s.msd && !s.mesh) throw msd::Error(f.where("msd") + "the msd solver needs a 'mesh' section");
   if (s.msd && s.msd->constants == "physical" && !s.material.youngs_modulus)

@@ -6,11 +6,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <cmath>
 #include <memory>
+#include <sstream>
+#include <stdexcept>
 
 namespace {
 
@@ -186,4 +189,122 @@ TEST(Cli, InspectPrintsCounts) {
   const Result r = sh(std::string("inspect ") + TISSUEBENCH_SPECS_DIR + "/uniaxial_thesis_full.yaml");
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("24 cubes, 120 tets, 63 nodes"), std::string::npos) << r.output;
+}
+
+namespace {
+
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
+  const size_t at = s.find(from);
+  if (at == std::string::npos) throw std::runtime_error("test fixture: '" + from + "' not found");
+  return s.replace(at, from.size(), to);
+}
+
+// kSpec with what the FEM needs, so sweeps have a reference.
+std::string both_spec() {
+  std::string s = replaced(kSpec, "youngs_modulus: 5000", "youngs_modulus: 5000, poisson_ratio: 0.45");
+  s = replaced(s, "path: [[0, 0], [0.1, 0.05]]", "path: [[0, 0], [0.1, -0.1], [0.2, 0.1]]");
+  return s + "fem: {cells: [2, 2, 4], vtu: false}\noutput: {interval: 0.01}\n";
+}
+
+std::string slurp(const std::string& file) {
+  std::ifstream in(file);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+TEST(Cli, SweepRunsTheGridAndMergesOneTable) {
+  testing_support::TempDir dir("cli");
+  std::ofstream(dir.file("s.yaml")) << both_spec();
+  const std::string grid = " --spacing 0.01 --dt 1e-4,5e-4 --integrators symplectic_euler --terms all "
+                           "--thresholds off --quiet";
+  const Result r = sh("sweep " + dir.file("s.yaml") + " --out " + dir.file("sw") + grid);
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("FEM reference"), std::string::npos) << r.output;
+  const std::string json = slurp(dir.file("sw/cli_sweep.json"));
+  EXPECT_NE(json.find("\"integrator\": \"cvode\""), std::string::npos);
+  EXPECT_NE(json.find("\"pareto\": true"), std::string::npos);
+  EXPECT_EQ(json.find("\"status\": \"failed\""), std::string::npos) << json;
+  // The fixed-step points have a time error against the CVODE point; it grows with dt.
+  std::ifstream csv(dir.file("sw/cli_sweep.csv"));
+  std::string line, header;
+  std::getline(csv, header);
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ls(line);
+    for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+    rows.push_back(cells);
+  }
+  std::vector<std::string> names;
+  {
+    std::stringstream hs(header);
+    for (std::string c; std::getline(hs, c, ',');) names.push_back(c);
+  }
+  const size_t col = static_cast<size_t>(std::find(names.begin(), names.end(), "time_error") - names.begin());
+  ASSERT_LT(col, names.size());
+  ASSERT_EQ(rows.size(), 3u);  // dt 1e-4, dt 5e-4, cvode
+  EXPECT_EQ(rows[2][3], "cvode");
+  const double e1 = std::stod(rows[0][col]), e5 = std::stod(rows[1][col]);
+  EXPECT_GT(e1, 0.0);
+  EXPECT_GT(e5, e1);
+  // Under mpirun the same grid is spread over two processes and merged into one table.
+  const std::string mpirun = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 timeout 300 mpirun -np 2 "
+                             "--oversubscribe ";
+  const std::string cmd = mpirun + TISSUEBENCH_BINARY + " sweep " + dir.file("s.yaml") + " --out " +
+                          dir.file("mpi") + grid + " 2>&1";
+  std::unique_ptr<FILE, int (*)(FILE*)> p(popen(cmd.c_str(), "r"), pclose);
+  std::string out;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, p.get())) out.append(buf, n);
+  ASSERT_EQ(WEXITSTATUS(pclose(p.release())), 0) << out;
+  const std::string mj = slurp(dir.file("mpi/cli_sweep.json"));
+  EXPECT_NE(mj.find("\"ranks\": 2"), std::string::npos) << mj;
+  for (const char* id : {"\"id\": 0,", "\"id\": 1,", "\"id\": 2,"}) EXPECT_NE(mj.find(id), std::string::npos) << id;
+  EXPECT_EQ(mj.find("\"status\": \"failed\""), std::string::npos) << mj;
+}
+
+TEST(Cli, SweepBadGridIsAnErrorBeforeAnythingRuns) {
+  testing_support::TempDir dir("cli");
+  std::ofstream(dir.file("s.yaml")) << both_spec();
+  const Result r = sh("sweep " + dir.file("s.yaml") + " --out " + dir.file("sw") + " --terms everything");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("everything"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("sw/cli_sweep.json")));
+}
+
+TEST(Cli, StabilityPrintsBothTables) {
+  testing_support::TempDir dir("cli");
+  std::ofstream(dir.file("s.yaml")) << both_spec();
+  const Result r = sh("stability " + dir.file("s.yaml") + " --out " + dir.file("st") +
+                      " --integrators symplectic_euler --terms springs_dampers --quiet");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("Largest stable time step"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("tendon_1GPa"), std::string::npos) << r.output;
+  EXPECT_NE(slurp(dir.file("st/cli_stability.json")).find("\"largest_stable_dt\""), std::string::npos);
+}
+
+TEST(Cli, CalibrationErrorsNameTheProblem) {
+  testing_support::TempDir dir("cli");
+  const Result a = sh("calibrate --material unobtainium --out " + dir.file("c") + " --quiet");
+  EXPECT_EQ(a.code, 2);
+  EXPECT_NE(a.output.find("unobtainium"), std::string::npos) << a.output;
+  std::ofstream(dir.file("c.yaml")) << "material: passive_muscle\nparameters: {stiffness_scale: 1, "
+                                       "repulsion_factor: 0, volume_factor: 1}\n";
+  const std::string spec = replaced(kSpec, "material: {density: 1000, youngs_modulus: 5000, damping_time: 0.002}",
+                                    "material: {library: non_muscular_tissue}");
+  std::ofstream(dir.file("s.yaml")) << spec;
+  const Result b = sh("run " + dir.file("s.yaml") + " --calibration " + dir.file("c.yaml") + " --out " +
+                      dir.file("o.h5"));
+  EXPECT_EQ(b.code, 2);
+  EXPECT_NE(b.output.find("passive_muscle"), std::string::npos) << b.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("o.h5")));
+  std::ofstream(dir.file("c.yaml")) << "material: non_muscular_tissue\nparameters: {stiffness_scale: 0.5, "
+                                       "repulsion_factor: 0, volume_factor: 2}\n";
+  const Result c = sh("run " + dir.file("s.yaml") + " --calibration " + dir.file("c.yaml") + " --out " +
+                      dir.file("o.h5"));
+  EXPECT_EQ(c.code, 0) << c.output;
+  EXPECT_EQ(bench::read_results(dir.file("o.h5")).meta.at("calibration"), dir.file("c.yaml"));
 }

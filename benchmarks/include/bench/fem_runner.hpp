@@ -24,4 +24,9 @@ fem::Problem make_fem_problem(const Spec& spec, const std::string& vtu_directory
 /// recorded in the file (status "failed") and in the summary.
 RunSummary run_fem(const Spec& spec, const std::string& out_path, const Progress& progress = {});
 
+/// The FEM reference of `spec` in `out_path`: an existing complete file written
+/// from the identical spec text is reused (returns true); otherwise the FEM runs
+/// (collectively under MPI) and a failure throws msd::Error naming the spec.
+bool ensure_fem_reference(const Spec& spec, const std::string& out_path, const Progress& progress = {});
+
 }  // namespace bench

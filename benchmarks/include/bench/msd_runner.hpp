@@ -3,6 +3,7 @@
 // (platens, clamp, loads, initial state), runs it and writes the results file.
 #pragma once
 
+#include "bench/cvode_integrator.hpp"
 #include "bench/results_file.hpp"
 #include "bench/spec.hpp"
 #include "msd/experiments/shear.hpp"
@@ -42,9 +43,15 @@ struct MsdProblem {
   msd::State initial;
   double size = 0.0;                  ///< for the blow-up guard, m
   std::vector<SeriesColumn> columns;  ///< the series this loading writes
+  bool cvode = false;                 ///< integrate with CVODE instead of `stepping`
+  CvodeOptions cvode_options;
 };
 
 MsdProblem compile_msd(const Spec& spec);
+
+/// Runs the problem's time loop with its integrator (fixed step or CVODE).
+/// Throws msd::SimulationFailure as msd::run_experiment.
+msd::RunStats integrate_msd(const MsdProblem& p, const msd::ExperimentHooks& hooks);
 
 /// The loading's controls and one results row per sample; `frame` (optional)
 /// sees the state at every sample first.

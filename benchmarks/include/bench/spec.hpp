@@ -45,12 +45,18 @@ struct MsdSpec {
   double k_s = 0.0, k_d = 0.0, k_r = 0.0, k_v = 0.0;
   // physical
   double stiffness_scale = 1.0, repulsion_factor = 0.0, volume_factor = 0.0;
+  /// Calibration file the three physical factors above were read from ("" =
+  /// given in the spec); `msd.calibration: FILE`, relative to the spec's folder.
+  std::string calibration;
   double repulsion_floor = 0.01;
   std::string mass_lumping = "per_tet";   ///< per_tet | equal
   std::vector<std::string> terms{"springs", "dampers", "repulsion", "volume"};
   double nonlinear_threshold = 0.0;       ///< 0 = off
+  /// explicit_euler | symplectic_euler | velocity_verlet | cvode (SUNDIALS BDF,
+  /// adaptive; the time-exact reference of the time-error study)
   std::string integrator = "symplectic_euler";
-  double dt = 0.0;
+  double dt = 0.0;                        ///< s; fixed-step integrators
+  double rtol = 1e-8, atol = 1e-10;       ///< cvode: relative, absolute on positions (m)
 };
 
 /// Settings of the finite-element reference solver.

@@ -35,6 +35,8 @@ class Session {
   Session& operator=(const Session&) = delete;
   static int rank();
   static int size();
+  /// Waits until every process arrives (MPI_Barrier on the world communicator).
+  static void barrier();
 };
 
 /// Bad input or a solve that cannot go on; the message names what and when.

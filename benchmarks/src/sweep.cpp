@@ -1,0 +1,468 @@
+#include "bench/sweep.hpp"
+
+#include "bench/compare.hpp"
+#include "bench/fem_runner.hpp"
+#include "bench/results_file.hpp"
+#include "fem/fem.hpp"
+#include "msd/integrate/step.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+
+extern char** environ;
+
+namespace bench {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+bool same(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)); }
+
+std::string num(double v, int precision = 8) {
+  if (std::isnan(v)) return "null";
+  std::ostringstream s;
+  s << std::setprecision(precision) << v;
+  return s.str();
+}
+
+std::string quoted(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\';
+    if (c == '\n') {
+      o += "\\n";
+      continue;
+    }
+    o += c;
+  }
+  return o + "\"";
+}
+
+// Runs `argv` as a child process with the MPI launcher's variables removed from
+// its environment (the child is a process of its own, not a rank of this job),
+// stdout and stderr into `log`. Returns the exit code (128 + signal when
+// killed) and the child's peak resident memory in kB.
+int spawn(const std::vector<std::string>& argv, const std::string& log, long& maxrss_kb) {
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  std::vector<std::string> env_keep;
+  for (char** e = environ; *e; ++e) {
+    const std::string v = *e;
+    bool mpi = false;
+    for (const char* prefix : {"OMPI_", "PMIX_", "PMI_", "OPAL_", "HYDRA_", "MPI_LOCALNRANKS", "MPI_LOCALRANKID"})
+      if (v.rfind(prefix, 0) == 0) mpi = true;
+    if (!mpi) env_keep.push_back(v);
+  }
+  std::vector<char*> envp;
+  for (auto& v : env_keep) envp.push_back(v.data());
+  envp.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, args[0], &fa, nullptr, args.data(), envp.data());
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0) throw msd::Error("sweep: cannot start " + argv[0] + ": " + std::strerror(rc));
+  int status = 0;
+  struct rusage ru {};
+  if (wait4(pid, &status, 0, &ru) < 0) throw msd::Error("sweep: lost the child process of " + log);
+  maxrss_kb = ru.ru_maxrss;
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
+
+std::string tail_of(const std::string& file, size_t max_chars = 400) {
+  std::ifstream in(file);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string s = ss.str();
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  return s.size() > max_chars ? s.substr(s.size() - max_chars) : s;
+}
+
+double interpolate(const std::vector<double>& t, const std::vector<double>& y, double at) {
+  if (t.empty()) return kNaN;
+  if (at < t.front() - 1e-9 || at > t.back() + 1e-9) return kNaN;
+  const auto it = std::lower_bound(t.begin(), t.end(), at - 1e-12);
+  if (it == t.end()) return y.back();
+  if (it == t.begin()) return y.front();
+  const size_t i = static_cast<size_t>(it - t.begin());
+  const double w = (at - t[i - 1]) / (t[i] - t[i - 1]);
+  return (1 - w) * y[i - 1] + w * y[i];
+}
+
+// Reads what the sweep reports of a point's results file.
+void read_point(SweepPoint& p, const std::string& reference, double spec_spacing, std::string& load_series,
+                double& load_rms_fem) {
+  const Results r = read_results(p.results_file);
+  p.status = r.status();
+  if (r.meta.count("failure")) p.failure = r.meta.at("failure");
+  if (r.timing.count("wall_seconds")) p.wall_seconds = r.timing.at("wall_seconds");
+  if (r.timing.count("steps")) p.steps = static_cast<long>(r.timing.at("steps"));
+  if (r.timing.count("model_rss_mb")) p.model_rss_mb = r.timing.at("model_rss_mb");
+  if (r.series.count("time") && !r.series.at("time").empty()) p.simulated_seconds = r.series.at("time").back();
+  if (r.series.count("inverted_elements"))
+    for (double v : r.series.at("inverted_elements")) p.max_inverted = std::max(p.max_inverted, static_cast<int>(v));
+  if (r.meta.count("mesh_counts"))
+    std::sscanf(r.meta.at("mesh_counts").c_str(), "nodes %d, tets %d", &p.nodes, &p.tets);
+  if (p.status != "complete") {
+    p.failure_time = p.simulated_seconds;
+    return;
+  }
+  if (p.simulated_seconds > 0.0) p.cost = p.wall_seconds / p.simulated_seconds;
+  const Comparison c = compare_results(p.results_file, reference, same(p.spacing, spec_spacing));
+  p.load_rel_rms = c.load_rel_rms;
+  p.load_rel_rms_working = c.load_rel_rms_working;
+  p.volume_ratio_max_error = c.volume_ratio_max_error;
+  p.displacement_rel_rms = c.displacement_rel_rms;
+  p.frequency_rel_error = c.frequency_rel_error;
+  load_series = c.load_series;
+  load_rms_fem = c.load_rms_fem;
+}
+
+}  // namespace
+
+double SweepPoint::error() const { return std::isnan(load_rel_rms_working) ? load_rel_rms : load_rel_rms_working; }
+
+std::vector<std::string> term_set(const std::string& name) {
+  if (name == "all") return {"springs", "dampers", "repulsion", "volume"};
+  if (name == "no_repulsion") return {"springs", "dampers", "volume"};
+  if (name == "no_volume") return {"springs", "dampers", "repulsion"};
+  if (name == "springs_dampers") return {"springs", "dampers"};
+  throw msd::Error("sweep: unknown term set '" + name + "' (expected all, no_repulsion, no_volume, springs_dampers)");
+}
+
+std::vector<SweepPoint> sweep_points(const Spec& spec, const SweepGrid& g) {
+  if (!spec.msd || !spec.mesh) throw msd::Error(spec.path + ": a sweep needs the spec's mesh and msd sections");
+  const MsdSpec& ms = *spec.msd;
+  std::vector<double> hs = g.spacing.empty() ? std::vector<double>{spec.mesh->spacing, 2 * spec.mesh->spacing}
+                                             : g.spacing;
+  const double base_dt = ms.integrator == "cvode" ? spec.output.interval / 100 : ms.dt;
+  std::vector<double> dts = g.dt.empty() ? std::vector<double>{base_dt, 2.5 * base_dt} : g.dt;
+  std::vector<std::string> ints =
+      g.integrators.empty() ? std::vector<std::string>{"symplectic_euler", "velocity_verlet", "explicit_euler"}
+                            : g.integrators;
+  std::vector<std::string> terms =
+      g.term_sets.empty() ? std::vector<std::string>{"all", "no_repulsion", "no_volume", "springs_dampers"}
+                          : g.term_sets;
+  std::vector<double> thr = g.thresholds.empty() ? std::vector<double>{0.0, 0.7} : g.thresholds;
+  for (double h : hs)
+    if (!(h > 0.0)) throw msd::Error("sweep: mesh spacings must be positive");
+  for (double d : dts)
+    if (!(d > 0.0)) throw msd::Error("sweep: time steps must be positive");
+  for (double d : dts)
+    if (d > spec.output.interval)
+      throw msd::Error("sweep: time step " + num(d) + " s is longer than the spec's output interval " +
+                       num(spec.output.interval) + " s");
+  for (double t : thr)
+    if (t < 0.0 || t > 1.0) throw msd::Error("sweep: thresholds lie in [0, 1] (0 = off)");
+  for (const auto& i : ints) {
+    if (i == "cvode") throw msd::Error("sweep: cvode is added per spatial configuration (see --no-cvode)");
+    msd::parse_integrator(i);  // throws on an unknown name
+  }
+  for (const auto& t : terms) term_set(t);
+  std::vector<SweepPoint> pts;
+  for (double h : hs)
+    for (const auto& t : terms)
+      for (double th : thr) {
+        for (const auto& i : ints)
+          for (double d : dts) {
+            SweepPoint p;
+            p.spacing = h;
+            p.terms = t;
+            p.threshold = th;
+            p.integrator = i;
+            p.dt = d;
+            pts.push_back(p);
+          }
+        if (g.cvode) {
+          SweepPoint p;
+          p.spacing = h;
+          p.terms = t;
+          p.threshold = th;
+          p.integrator = "cvode";
+          p.dt = kNaN;
+          pts.push_back(p);
+        }
+      }
+  for (size_t k = 0; k < pts.size(); ++k) pts[k].id = static_cast<int>(k);
+  return pts;
+}
+
+std::string point_spec_text(const Spec& spec, const SweepPoint& p) {
+  YAML::Node n = YAML::Load(spec.text);
+  n["mesh"]["spacing"] = p.spacing;
+  YAML::Node m = n["msd"];
+  m["integrator"] = p.integrator;
+  if (p.integrator == "cvode") {
+    m.remove("dt");
+    m["rtol"] = 1e-8;
+    m["atol"] = 1e-10;
+  } else {
+    m.remove("rtol");
+    m.remove("atol");
+    m["dt"] = p.dt;
+  }
+  m["terms"] = term_set(p.terms);
+  if (p.threshold > 0.0) m["nonlinear_threshold"] = p.threshold;
+  else m["nonlinear_threshold"] = "off";
+  if (spec.msd && !spec.msd->calibration.empty()) m["calibration"] = fs::absolute(spec.msd->calibration).string();
+  YAML::Emitter e;
+  e << n;
+  std::ostringstream s;
+  s << "# sweep point " << p.id << " of " << spec.path << " (tissuebench sweep)\n" << e.c_str() << "\n";
+  return s.str();
+}
+
+void mark_pareto(std::vector<SweepPoint>& pts) {
+  for (auto& p : pts) {
+    p.pareto = false;
+    if (p.status != "complete" || std::isnan(p.cost) || std::isnan(p.error())) continue;
+    bool dominated = false;
+    for (const auto& q : pts) {
+      if (&q == &p || q.status != "complete" || std::isnan(q.cost) || std::isnan(q.error())) continue;
+      if (q.cost <= p.cost && q.error() <= p.error() && (q.cost < p.cost || q.error() < p.error())) {
+        dominated = true;
+        break;
+      }
+    }
+    p.pareto = !dominated;
+  }
+}
+
+void fill_time_errors(std::vector<SweepPoint>& pts, double load_rms_fem) {
+  for (auto& p : pts) {
+    if (p.integrator == "cvode" || p.status != "complete") continue;
+    const SweepPoint* ref = nullptr;
+    for (const auto& q : pts)
+      if (q.integrator == "cvode" && q.status == "complete" && same(q.spacing, p.spacing) && q.terms == p.terms &&
+          same(q.threshold, p.threshold))
+        ref = &q;
+    if (!ref || !(load_rms_fem > 0.0)) continue;
+    const Results a = read_results(p.results_file), b = read_results(ref->results_file);
+    // The compared series: the one the FEM comparison used (first non-time load column present in both).
+    std::string name;
+    for (const char* k : {"nominal_stress", "shear_stress", "tip_displacement", "tip_displacement_z",
+                          "tip_displacement_y", "tip_displacement_x"})
+      if (a.series.count(k) && b.series.count(k)) {
+        name = k;
+        break;
+      }
+    if (name.empty()) continue;
+    const auto& ta = a.series.at("time");
+    const auto& tb = b.series.at("time");
+    double sum = 0.0;
+    long n = 0;
+    for (size_t i = 0; i < tb.size(); ++i) {
+      const double y = interpolate(ta, a.series.at(name), tb[i]);
+      if (std::isnan(y)) continue;
+      const double d = y - b.series.at(name)[i];
+      sum += d * d;
+      ++n;
+    }
+    if (n > 0) p.time_error = std::sqrt(sum / static_cast<double>(n)) / load_rms_fem;
+  }
+}
+
+SweepResult run_sweep(const Spec& spec, const SweepGrid& grid, const SweepOptions& o) {
+  const int rank = fem::Session::rank(), size = fem::Session::size();
+  std::vector<SweepPoint> pts = sweep_points(spec, grid);
+  const fs::path dir = o.out_dir;
+  const fs::path points_dir = dir / (spec.name + "_points");
+  if (rank == 0) fs::create_directories(points_dir);
+  fem::Session::barrier();
+
+  // The FEM reference (all ranks together).
+  SweepResult res;
+  res.spec = spec.name;
+  res.spec_path = spec.path;
+  res.ranks = size;
+  res.reference_file = o.reference.empty() ? (dir / (spec.name + "_fem.h5")).string() : o.reference;
+  if (o.reference.empty()) {
+    if (o.log && rank == 0) o.log("FEM reference: " + res.reference_file);
+    const bool reused = ensure_fem_reference(spec, res.reference_file);
+    if (o.log && rank == 0 && reused) o.log("  reused (same spec text)");
+  } else if (!fs::exists(o.reference)) {
+    throw msd::Error(o.reference + ": no such FEM results file");
+  }
+  fem::Session::barrier();
+
+  // Points: rank r runs i mod size == r.
+  for (auto& p : pts) {
+    const std::string stem = spec.name + "_p" + std::to_string(1000 + p.id).substr(1);
+    p.spec_file = (points_dir / (stem + ".yaml")).string();
+    p.results_file = (points_dir / (stem + ".h5")).string();
+    p.log_file = (points_dir / (stem + ".log")).string();
+  }
+  for (auto& p : pts) {
+    if (p.id % size != rank) continue;
+    {
+      std::ofstream f(p.spec_file);
+      f << point_spec_text(spec, p);
+      if (!f) throw msd::Error(p.spec_file + ": cannot write");
+    }
+    long rss = 0;
+    fs::remove(p.results_file);
+    const int code =
+        spawn({o.executable, "run", p.spec_file, "--solver", "msd", "--out", p.results_file, "--quiet"}, p.log_file, rss);
+    if (o.log) {
+      std::ostringstream s;
+      s << "  point " << p.id << "/" << pts.size() << " (rank " << rank << "): h " << p.spacing << ", "
+        << p.integrator << (p.integrator == "cvode" ? "" : ", dt " + num(p.dt, 4)) << ", " << p.terms
+        << ", threshold " << (p.threshold > 0 ? num(p.threshold, 3) : "off") << " -> exit " << code;
+      o.log(s.str());
+    }
+    // Peak memory goes beside the results (rank 0 reads it when merging).
+    std::ofstream(p.results_file + ".rss") << rss << "\n";
+    if (code == 2 || !fs::exists(p.results_file))
+      throw msd::Error("sweep point " + std::to_string(p.id) + " (" + p.spec_file + ") did not run: " +
+                       tail_of(p.log_file));
+  }
+  fem::Session::barrier();
+  if (rank != 0) return {};
+
+  // Merge on rank 0.
+  {
+    long rss = 0;
+    const std::string log = (points_dir / "baseline.log").string();
+    spawn({o.executable, "--version"}, log, rss);
+    res.baseline_rss_mb = static_cast<double>(rss) / 1024.0;
+  }
+  for (auto& p : pts) {
+    read_point(p, res.reference_file, spec.mesh->spacing, res.load_series, res.load_rms_fem);
+    std::ifstream in(p.results_file + ".rss");
+    long rss = 0;
+    if (in >> rss) p.peak_rss_mb = static_cast<double>(rss) / 1024.0;
+  }
+  if (res.load_series.empty()) {
+    // No complete point: still name the FEM's curve scale.
+    for (const auto& p : pts)
+      if (p.status == "complete") res.load_series = "?";
+  }
+  fill_time_errors(pts, res.load_rms_fem);
+  mark_pareto(pts);
+  res.points = std::move(pts);
+
+  const Results f = read_results(res.reference_file);
+  res.fem.results_file = res.reference_file;
+  res.fem.label = (f.meta.count("element") ? f.meta.at("element") : std::string("fem"));
+  if (f.timing.count("dofs")) res.fem.dofs = static_cast<unsigned long>(f.timing.at("dofs"));
+  if (f.timing.count("cells")) res.fem.cells = static_cast<unsigned long>(f.timing.at("cells"));
+  if (f.timing.count("wall_seconds")) res.fem.wall_seconds = f.timing.at("wall_seconds");
+  if (f.series.count("time") && !f.series.at("time").empty()) res.fem.simulated_seconds = f.series.at("time").back();
+  if (res.fem.simulated_seconds > 0) res.fem.cost = res.fem.wall_seconds / res.fem.simulated_seconds;
+  return res;
+}
+
+void write_sweep_json(const SweepResult& r, const std::string& path) {
+  const std::string tmp = path + ".partial";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw msd::Error(path + ": cannot write");
+    out << "{\n  \"spec\": " << quoted(r.spec) << ",\n  \"spec_path\": " << quoted(r.spec_path)
+        << ",\n  \"load_series\": " << quoted(r.load_series) << ",\n  \"load_rms_fem\": " << num(r.load_rms_fem)
+        << ",\n  \"reference\": " << quoted(r.reference_file) << ",\n  \"ranks\": " << r.ranks
+        << ",\n  \"baseline_rss_mb\": " << num(r.baseline_rss_mb) << ",\n  \"fem\": {\"label\": "
+        << quoted(r.fem.label) << ", \"dofs\": " << r.fem.dofs << ", \"cells\": " << r.fem.cells
+        << ", \"wall_seconds\": " << num(r.fem.wall_seconds) << ", \"simulated_seconds\": "
+        << num(r.fem.simulated_seconds) << ", \"cost\": " << num(r.fem.cost) << "},\n  \"points\": [\n";
+    for (size_t k = 0; k < r.points.size(); ++k) {
+      const SweepPoint& p = r.points[k];
+      out << "    {\"id\": " << p.id << ", \"spacing\": " << num(p.spacing) << ", \"dt\": " << num(p.dt)
+          << ", \"integrator\": " << quoted(p.integrator) << ", \"terms\": " << quoted(p.terms)
+          << ", \"threshold\": " << num(p.threshold) << ", \"status\": " << quoted(p.status)
+          << ", \"failure\": " << quoted(p.failure) << ", \"failure_time\": " << num(p.failure_time)
+          << ", \"tets\": " << p.tets << ", \"nodes\": " << p.nodes << ", \"steps\": " << p.steps
+          << ", \"wall_seconds\": " << num(p.wall_seconds) << ", \"simulated_seconds\": " << num(p.simulated_seconds)
+          << ", \"cost\": " << num(p.cost) << ", \"peak_rss_mb\": " << num(p.peak_rss_mb)
+          << ", \"model_rss_mb\": " << num(p.model_rss_mb)
+          << ", \"load_rel_rms\": " << num(p.load_rel_rms) << ", \"load_rel_rms_working\": "
+          << num(p.load_rel_rms_working) << ", \"volume_ratio_max_error\": " << num(p.volume_ratio_max_error)
+          << ", \"displacement_rel_rms\": " << num(p.displacement_rel_rms) << ", \"frequency_rel_error\": "
+          << num(p.frequency_rel_error) << ", \"time_error\": " << num(p.time_error)
+          << ", \"max_inverted\": " << p.max_inverted << ", \"pareto\": " << (p.pareto ? "true" : "false")
+          << ", \"results_file\": " << quoted(p.results_file) << "}" << (k + 1 < r.points.size() ? "," : "")
+          << "\n";
+    }
+    out << "  ]\n}\n";
+    if (!out) throw msd::Error(path + ": write failed");
+  }
+  fs::rename(tmp, path);
+}
+
+void write_sweep_csv(const SweepResult& r, const std::string& path) {
+  const std::string tmp = path + ".partial";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw msd::Error(path + ": cannot write");
+    out << "id,spacing,dt,integrator,terms,threshold,status,failure_time,tets,nodes,steps,wall_seconds,"
+           "simulated_seconds,cost,peak_rss_mb,model_rss_mb,load_rel_rms,load_rel_rms_working,volume_ratio_max_error,"
+           "displacement_rel_rms,frequency_rel_error,time_error,max_inverted,pareto\n";
+    auto c = [](double v) { return std::isnan(v) ? std::string() : num(v); };
+    for (const auto& p : r.points)
+      out << p.id << "," << c(p.spacing) << "," << c(p.dt) << "," << p.integrator << "," << p.terms << ","
+          << c(p.threshold) << "," << p.status << "," << c(p.failure_time) << "," << p.tets << "," << p.nodes << ","
+          << p.steps << "," << c(p.wall_seconds) << "," << c(p.simulated_seconds) << "," << c(p.cost) << ","
+          << c(p.peak_rss_mb) << "," << c(p.model_rss_mb) << "," << c(p.load_rel_rms) << "," << c(p.load_rel_rms_working) << ","
+          << c(p.volume_ratio_max_error) << "," << c(p.displacement_rel_rms) << "," << c(p.frequency_rel_error)
+          << "," << c(p.time_error) << "," << p.max_inverted << "," << (p.pareto ? 1 : 0) << "\n";
+  }
+  fs::rename(tmp, path);
+}
+
+std::string format_sweep(const SweepResult& r) {
+  std::ostringstream s;
+  char line[512];
+  s << "Speed-accuracy sweep of " << r.spec << " (" << r.points.size() << " points, " << r.ranks
+    << " process(es)); errors relative to the FEM " << r.load_series << " RMS " << num(r.load_rms_fem, 4)
+    << "; '*' = Pareto front (cost vs working-range error)\n";
+  std::snprintf(line, sizeof line, "%4s %7s %8s %-16s %-15s %5s %6s %8s %8s %7s %8s %8s %8s %8s %8s %s\n", "id",
+                "h/mm", "dt/ms", "integrator", "terms", "thr", "tets", "cost", "+RSS/MB", "status", "err%", "errWR%",
+                "dVmax", "disp%", "time%", "");
+  s << line;
+  auto pct = [](double v) { return std::isnan(v) ? std::string("-") : num(100.0 * v, 3); };
+  for (const auto& p : r.points) {
+    std::snprintf(line, sizeof line, "%4d %7.2f %8s %-16s %-15s %5s %6d %8s %8.1f %7s %8s %8s %8s %8s %8s %s\n", p.id,
+                  1e3 * p.spacing, std::isnan(p.dt) ? "adapt" : num(1e3 * p.dt, 3).c_str(), p.integrator.c_str(),
+                  p.terms.c_str(), p.threshold > 0 ? num(p.threshold, 2).c_str() : "off", p.tets,
+                  std::isnan(p.cost) ? "-" : num(p.cost, 3).c_str(), p.model_rss_mb,
+                  p.status == "complete" ? "ok" : "FAILED", pct(p.load_rel_rms).c_str(),
+                  pct(p.load_rel_rms_working).c_str(),
+                  std::isnan(p.volume_ratio_max_error) ? "-" : num(p.volume_ratio_max_error, 3).c_str(),
+                  pct(p.displacement_rel_rms).c_str(), pct(p.time_error).c_str(), p.pareto ? "*" : "");
+    s << line;
+  }
+  std::snprintf(line, sizeof line,
+                "FEM reference (%s): %lu cells, %lu dofs, %.2f s for %.3g s simulated: cost %.3g (wall s per "
+                "simulated s)\n",
+                r.fem.label.c_str(), r.fem.cells, r.fem.dofs, r.fem.wall_seconds, r.fem.simulated_seconds, r.fem.cost);
+  s << line;
+  std::snprintf(line, sizeof line,
+                "cost: wall s per simulated s; +RSS: the run's peak resident memory above the process's before the "
+                "model was built (whole process peaks in the JSON; a tissuebench process that runs nothing: "
+                "%.1f MB, mostly shared libraries)\n",
+                r.baseline_rss_mb);
+  s << line;
+  return s.str();
+}
+
+}  // namespace bench

@@ -1,0 +1,79 @@
+// The calibration loop end to end on small samples: the FEM references are
+// computed (and reused on a second call), the optimiser lowers the objective,
+// and the file it writes reads back.
+#include "bench/calibration.hpp"
+
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+namespace {
+
+const char* kUniaxial = R"(name: cal_uniaxial
+geometry: {shape: box, size: [0.02, 0.02, 0.04]}
+mesh: {spacing: 0.01}
+material: {library: non_muscular_tissue}
+msd: {constants: physical, repulsion_factor: 0.1, volume_factor: 1.0, dt: 2.0e-4}
+fem: {formulation: three_field, degree: 1, cells: [2, 2, 4], vtu: false}
+loading: {type: uniaxial, platens: bonded, path: [[0, 0], [0.5, -0.3], [1.5, 0.3], [2, 0]]}
+output: {interval: 0.1}
+)";
+
+const char* kShear = R"(name: cal_shear
+geometry: {shape: box, size: [0.04, 0.04, 0.02]}
+mesh: {spacing: 0.01}
+material: {library: non_muscular_tissue}
+msd: {constants: physical, repulsion_factor: 0.1, volume_factor: 1.0, dt: 2.0e-4}
+fem: {formulation: three_field, degree: 1, cells: [4, 4, 2], vtu: false}
+loading: {type: simple_shear, path: [[0, 0], [0.5, 0.3], [1.5, -0.3], [2, 0]]}
+output: {interval: 0.1}
+)";
+
+}  // namespace
+
+TEST(CalibrationLoop, LowersTheObjectiveAndWritesAReadableFile) {
+  testing_support::TempDir dir("calloop");
+  std::ofstream(dir.file("u.yaml")) << kUniaxial;
+  std::ofstream(dir.file("s.yaml")) << kShear;
+  std::vector<std::string> lines;
+  const bench::CalibrationResult r = bench::calibrate(
+      "passive_muscle", {dir.file("u.yaml"), dir.file("s.yaml")}, dir.file("out"), {},
+      [&](const std::string& l) { lines.push_back(l); }, 12);
+  EXPECT_EQ(r.material, "passive_muscle");
+  EXPECT_LT(r.objective_after, r.objective_before);
+  EXPECT_LE(r.evaluations, 12);
+  ASSERT_EQ(r.specs.size(), 2u);
+  EXPECT_EQ(r.specs[0].sha256.size(), 64u);
+  EXPECT_EQ(r.specs[0].load_series, "nominal_stress");
+  EXPECT_EQ(r.specs[1].load_series, "shear_stress");
+  EXPECT_LE(r.specs[0].rel_rms_after + r.specs[1].rel_rms_after,
+            r.specs[0].rel_rms_before + r.specs[1].rel_rms_before + 1e-9);
+  EXPECT_GE(r.after.stiffness_scale, 0.2);
+  EXPECT_LE(r.after.stiffness_scale, 5.0);
+  bench::write_calibration(r, dir.file("out/passive_muscle.yaml"));
+  std::string material;
+  const auto p = bench::read_calibration(dir.file("out/passive_muscle.yaml"), &material);
+  EXPECT_EQ(material, "passive_muscle");
+  EXPECT_DOUBLE_EQ(p.volume_factor, r.after.volume_factor);
+  // A second call reuses the FEM references of the unchanged specs.
+  lines.clear();
+  bench::calibrate("passive_muscle", {dir.file("u.yaml"), dir.file("s.yaml")}, dir.file("out"), {},
+                   [&](const std::string& l) { lines.push_back(l); }, 4);
+  int reused = 0;
+  for (const auto& l : lines) reused += l.find("reused") != std::string::npos;
+  EXPECT_EQ(reused, 2);
+}
+
+TEST(CalibrationLoop, UnknownMaterialAndWrongLoadingAreErrors) {
+  testing_support::TempDir dir("calloop");
+  std::ofstream(dir.file("u.yaml")) << kUniaxial;
+  EXPECT_THROW(bench::calibrate("unobtainium", {dir.file("u.yaml")}, dir.file("out")), msd::Error);
+  std::string text = kUniaxial;
+  text.replace(text.find("loading:"), std::string::npos,
+               "loading: {type: static, fixed: bottom, traction: {face: top, force: [0, 0, 0.01]}, "
+               "path: [[0, 0], [0.1, 1]]}\noutput: {interval: 0.05}\n");
+  std::ofstream(dir.file("st.yaml")) << text;
+  EXPECT_THROW(bench::calibrate("passive_muscle", {dir.file("st.yaml")}, dir.file("out")), msd::Error);
+}

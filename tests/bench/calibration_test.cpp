@@ -1,0 +1,107 @@
+// Calibration files: written with provenance, read back, applied to specs
+// (msd.calibration and run --calibration), and refused when they do not fit.
+#include "bench/calibration.hpp"
+
+#include "msd/core/types.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+namespace {
+
+const char* kSpec = R"(name: small
+geometry: {shape: box, size: [0.02, 0.02, 0.04]}
+mesh: {spacing: 0.01}
+material: {library: non_muscular_tissue}
+msd: {constants: physical, repulsion_factor: 0.1, volume_factor: 0.5, dt: 1.0e-4}
+loading: {type: uniaxial, path: [[0, 0], [0.2, -0.1], [0.4, 0.1]]}
+output: {interval: 0.02}
+)";
+
+bench::CalibrationResult result() {
+  bench::CalibrationResult r;
+  r.material = "non_muscular_tissue";
+  r.before = {1.0, 0.1, 1.0};
+  r.after = {0.8, 0.05, 7.5};
+  r.damping_time = 4.2e-3;
+  r.objective_before = 0.7;
+  r.objective_after = 0.1;
+  r.optimiser_status = "converged (relative reduction)";
+  bench::SpecError e;
+  e.spec = "calibrate_uniaxial";
+  e.sha256 = "ab";
+  e.load_series = "nominal_stress";
+  r.specs = {e};
+  r.fem_version = "1.0";
+  r.fem_git_revision = "abc";
+  r.created = "2026-11-22T00:00:00Z";
+  return r;
+}
+
+}  // namespace
+
+TEST(Calibration, WithParametersSetsThePhysicalFactors) {
+  const bench::Spec s = bench::with_parameters(bench::parse_spec(kSpec, "s.yaml"), {2.0, 0.3, 4.0});
+  EXPECT_EQ(s.msd->constants, "physical");
+  EXPECT_DOUBLE_EQ(s.msd->stiffness_scale, 2.0);
+  EXPECT_DOUBLE_EQ(s.msd->repulsion_factor, 0.3);
+  EXPECT_DOUBLE_EQ(s.msd->volume_factor, 4.0);
+}
+
+TEST(Calibration, FileRoundTripsWithProvenance) {
+  testing_support::TempDir dir("cal");
+  bench::write_calibration(result(), dir.file("c.yaml"));
+  std::string material;
+  const bench::CalibrationParameters p = bench::read_calibration(dir.file("c.yaml"), &material);
+  EXPECT_EQ(material, "non_muscular_tissue");
+  EXPECT_DOUBLE_EQ(p.stiffness_scale, 0.8);
+  EXPECT_DOUBLE_EQ(p.repulsion_factor, 0.05);
+  EXPECT_DOUBLE_EQ(p.volume_factor, 7.5);
+  std::ifstream in(dir.file("c.yaml"));
+  std::stringstream ss;
+  ss << in.rdbuf();
+  for (const char* k : {"sha256: ab", "git_revision: \"abc\"", "objective:", "optimiser:", "created:"})
+    EXPECT_NE(ss.str().find(k), std::string::npos) << k;
+}
+
+TEST(Calibration, SpecFieldReadsTheFileRelativeToTheSpec) {
+  testing_support::TempDir dir("cal");
+  bench::write_calibration(result(), dir.file("c.yaml"));
+  std::string text = kSpec;
+  text.replace(text.find("repulsion_factor: 0.1, volume_factor: 0.5"), 41, "calibration: c.yaml");
+  std::ofstream(dir.file("s.yaml")) << text;
+  const bench::Spec s = bench::load_spec(dir.file("s.yaml"));
+  EXPECT_DOUBLE_EQ(s.msd->stiffness_scale, 0.8);
+  EXPECT_DOUBLE_EQ(s.msd->volume_factor, 7.5);
+  EXPECT_EQ(s.msd->calibration, dir.file("c.yaml"));
+}
+
+TEST(Calibration, MisfitsAreClearErrors) {
+  testing_support::TempDir dir("cal");
+  bench::CalibrationResult r = result();
+  r.material = "passive_muscle";
+  bench::write_calibration(r, dir.file("muscle.yaml"));
+  bench::Spec s = bench::parse_spec(kSpec, "s.yaml");
+  try {
+    bench::apply_calibration(s, dir.file("muscle.yaml"));
+    FAIL();
+  } catch (const msd::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("passive_muscle"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(bench::apply_calibration(s, dir.file("missing.yaml")), msd::Error);
+  std::ofstream(dir.file("bad.yaml")) << "material: non_muscular_tissue\nparameters: {stiffness_scale: -1, "
+                                         "repulsion_factor: 0, volume_factor: 0}\n";
+  EXPECT_THROW(bench::apply_calibration(s, dir.file("bad.yaml")), msd::Error);
+  // Both the calibration and the factors it sets in one spec.
+  std::string text = kSpec;
+  text.replace(text.find("repulsion_factor: 0.1"), 21, "calibration: c.yaml, repulsion_factor: 0.1");
+  EXPECT_THROW(bench::parse_spec(text, dir.file("s.yaml")), msd::Error);
+  // Raw constants cannot take a calibration.
+  EXPECT_THROW(bench::parse_spec("name: r\ngeometry: {shape: box, size: [0.02, 0.02, 0.04]}\nmesh: {spacing: 0.01}\n"
+                                 "material: {density: 1000}\nmsd: {constants: raw, k_s: 1, dt: 1.0e-4, calibration: "
+                                 "c.yaml}\nloading: {type: uniaxial, path: [[0, 0], [1, 0.1]]}\n",
+                                 "r.yaml"),
+               msd::Error);
+}

@@ -1,0 +1,108 @@
+// The blow-up detector, the time-step bisection and the extreme-load runs on a
+// small sample.
+#include "bench/stability.hpp"
+
+#include "msd/core/types.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+namespace {
+
+const char* kSpec = R"(name: small
+geometry: {shape: box, size: [0.02, 0.02, 0.04]}
+mesh: {spacing: 0.01}
+material: {density: 1000, youngs_modulus: 5000, damping_time: 0.002}
+msd: {constants: physical, repulsion_factor: 0.1, volume_factor: 0.5, dt: 1.0e-4}
+loading: {type: uniaxial, path: [[0, 0], [0.1, -0.1], [0.2, 0.1]]}
+output: {interval: 0.01}
+)";
+
+}  // namespace
+
+TEST(Stability, DetectorNamesItsReason) {
+  bench::TrialOutcome ref, t;
+  ref.max_kinetic_energy = 1e-3;
+  std::string why;
+  EXPECT_TRUE(bench::is_stable(ref, ref, {}, &why));
+  EXPECT_TRUE(why.empty());
+  t = ref;
+  t.max_kinetic_energy = 0.1;
+  EXPECT_FALSE(bench::is_stable(t, ref, {}, &why));
+  EXPECT_NE(why.find("energy growth"), std::string::npos);
+  t = ref;
+  t.final_inverted = 3;
+  EXPECT_FALSE(bench::is_stable(t, ref, {}, &why));
+  EXPECT_NE(why.find("inversion"), std::string::npos);
+  t = ref;
+  t.finite = false;
+  t.failure = "non-finite element force";
+  EXPECT_FALSE(bench::is_stable(t, ref, {}, &why));
+  EXPECT_EQ(why, "non-finite element force");
+}
+
+TEST(Stability, TrialRecordsVolumeInversionAndLoad) {
+  const bench::TrialOutcome o = bench::run_trial(bench::parse_spec(kSpec, "small.yaml"));
+  EXPECT_TRUE(o.finite) << o.failure;
+  EXPECT_EQ(o.steps, 2000);
+  EXPECT_LT(o.min_volume_ratio, 1.0);
+  EXPECT_GT(o.max_volume_ratio, 1.0);
+  EXPECT_LT(o.min_load, 0.0);
+  EXPECT_GT(o.max_load, 0.0);
+  EXPECT_GT(o.max_kinetic_energy, 0.0);
+  EXPECT_TRUE(std::isnan(o.failure_time));
+}
+
+TEST(Stability, BisectionBracketsTheLimitOfTheStep) {
+  const bench::Spec spec = bench::parse_spec(kSpec, "small.yaml");
+  const bench::DtSearch d = bench::search_dt(spec, "symplectic_euler", "all");
+  ASSERT_FALSE(std::isnan(d.smallest_unstable_dt)) << "no instability below the output interval";
+  EXPECT_GE(d.largest_stable_dt, 1e-4);
+  EXPECT_LE(d.smallest_unstable_dt / d.largest_stable_dt, 1.1 + 1e-12);
+  EXPECT_FALSE(d.unstable_reason.empty());
+  // Both ends re-checked: stable just below, unstable just above.
+  auto trial = [&](double dt) {
+    return bench::run_trial(bench::spec_variant(spec, [&](YAML::Node& n) { n["msd"]["dt"] = dt; }));
+  };
+  const bench::TrialOutcome ref = trial(1e-4);
+  EXPECT_TRUE(bench::is_stable(trial(d.largest_stable_dt), ref, {}));
+  EXPECT_FALSE(bench::is_stable(trial(d.smallest_unstable_dt), ref, {}));
+  // The explicit Euler limit is lower than the symplectic one (it gains energy).
+  const bench::DtSearch e = bench::search_dt(spec, "explicit_euler", "all");
+  EXPECT_LT(e.largest_stable_dt, d.largest_stable_dt);
+}
+
+TEST(Stability, ExtremeCasesRunAndStiffCasesUseTheScaledStep) {
+  const auto rows = bench::run_extremes(bench::parse_spec(kSpec, "small.yaml"), {"springs_dampers"});
+  std::set<std::string> names;
+  for (const auto& r : rows) names.insert(r.name);
+  EXPECT_EQ(names, (std::set<std::string>{"compression_0.9", "extension_2.0", "volume_factor_1000", "tendon_35MPa",
+                                          "tendon_1GPa", "impact_10m/s"}));
+  for (const auto& r : rows) {
+    if (r.name == "tendon_1GPa") {
+      EXPECT_NEAR(r.dt / 1e-4, std::sqrt(5000 / 1e9), 1e-9) << "first try";
+      break;
+    }
+  }
+  for (size_t k = 0; k + 1 < rows.size(); ++k)  // a case is retried only after a failure
+    if (rows[k].name == rows[k + 1].name) {
+      EXPECT_FALSE(rows[k].outcome.finite);
+      EXPECT_DOUBLE_EQ(rows[k + 1].dt, rows[k].dt / 4);
+    }
+  // The extension to +2.0 stays finite with springs and dampers alone.
+  for (const auto& r : rows) {
+    if (r.name == "extension_2.0") {
+      EXPECT_TRUE(r.outcome.finite) << r.outcome.failure;
+    }
+  }
+}
+
+TEST(Stability, ExtremesNeedAUniaxialSpec) {
+  std::string text = kSpec;
+  text.replace(text.find("loading:"), std::string::npos,
+               "loading: {type: static, fixed: bottom, traction: {face: top, force: [0, 0, 0.01]}, "
+               "path: [[0, 0], [0.1, 1]]}\noutput: {interval: 0.01}\n");
+  EXPECT_THROW(bench::run_extremes(bench::parse_spec(text, "x.yaml"), {"all"}), msd::Error);
+}
