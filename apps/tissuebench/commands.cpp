@@ -170,6 +170,7 @@ int cmd_sweep(const SweepArgs& args) {
   bench::SweepOptions o;
   o.out_dir = args.out;
   o.reference = args.reference;
+  o.point_timeout = args.point_timeout;
   o.executable = fs::canonical("/proc/self/exe").string();
   if (!args.quiet)
     o.log = [](const std::string& line) {

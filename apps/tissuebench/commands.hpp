@@ -52,6 +52,7 @@ struct SweepArgs {
   std::string spec, out = "sweep", reference;
   std::vector<double> spacing, dt;
   std::vector<std::string> integrators, terms, thresholds;
+  double point_timeout = 0.0;
   bool no_cvode = false, quiet = false;
 };
 int cmd_sweep(const SweepArgs& args);

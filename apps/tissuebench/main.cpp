@@ -116,6 +116,10 @@ int main(int argc, char** argv) {
                         "An existing FEM results file of the same spec (default: computed into --out, reused "
                         "when the spec is unchanged)")
       ->check(CLI::ExistingFile);
+  sweep_cmd->add_option("--point-timeout", sweep.point_timeout,
+                        "Wall seconds a point may take before it is stopped and marked timeout (0: no limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   sweep_cmd->add_flag("--quiet", sweep.quiet, "No per-point lines");
 
   app::StabilityArgs stability;

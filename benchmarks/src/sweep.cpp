@@ -17,6 +17,10 @@
 #include <iomanip>
 #include <sstream>
 
+#include <chrono>
+#include <thread>
+
+#include <csignal>
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/resource.h>
@@ -58,7 +62,8 @@ std::string quoted(const std::string& s) {
 // its environment (the child is a process of its own, not a rank of this job),
 // stdout and stderr into `log`. Returns the exit code (128 + signal when
 // killed) and the child's peak resident memory in kB.
-int spawn(const std::vector<std::string>& argv, const std::string& log, long& maxrss_kb) {
+int spawn(const std::vector<std::string>& argv, const std::string& log, long& maxrss_kb, double timeout = 0.0,
+          bool* timed_out = nullptr) {
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
@@ -84,7 +89,25 @@ int spawn(const std::vector<std::string>& argv, const std::string& log, long& ma
   if (rc != 0) throw msd::Error("sweep: cannot start " + argv[0] + ": " + std::strerror(rc));
   int status = 0;
   struct rusage ru {};
-  if (wait4(pid, &status, 0, &ru) < 0) throw msd::Error("sweep: lost the child process of " + log);
+  if (timed_out) *timed_out = false;
+  if (timeout > 0.0) {
+    // Poll until the child ends or its time is up (then it is killed).
+    const auto start = std::chrono::steady_clock::now();
+    for (;;) {
+      const pid_t w = wait4(pid, &status, WNOHANG, &ru);
+      if (w == pid) break;
+      if (w < 0) throw msd::Error("sweep: lost the child process of " + log);
+      if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeout) {
+        kill(pid, SIGKILL);
+        if (timed_out) *timed_out = true;
+        if (wait4(pid, &status, 0, &ru) < 0) throw msd::Error("sweep: lost the child process of " + log);
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  } else if (wait4(pid, &status, 0, &ru) < 0) {
+    throw msd::Error("sweep: lost the child process of " + log);
+  }
   maxrss_kb = ru.ru_maxrss;
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
@@ -315,15 +338,37 @@ SweepResult run_sweep(const Spec& spec, const SweepGrid& grid, const SweepOption
   }
   for (auto& p : pts) {
     if (p.id % size != rank) continue;
+    const std::string text = point_spec_text(spec, p);
+    // A point already run from the identical spec text (complete, failed or
+    // timed out with the same limit) is kept: an interrupted sweep resumes.
+    if (fs::exists(p.results_file) && fs::exists(p.results_file + ".rss")) {
+      try {
+        const Results old = read_results(p.results_file);
+        const bool same_text = old.meta.count("spec") && old.meta.at("spec") == text;
+        const bool finished = old.status() == "complete" || old.status() == "failed";
+        std::ifstream tf(p.results_file + ".timeout");
+        double limit = -1.0;
+        const bool same_timeout = (tf >> limit) && std::abs(limit - o.point_timeout) < 1e-9;
+        if (same_text && (finished || same_timeout)) {
+          if (o.log) o.log("  point " + std::to_string(p.id) + ": kept from an earlier run (same spec)");
+          continue;
+        }
+      } catch (const std::exception&) {
+        // unreadable: run again
+      }
+    }
     {
       std::ofstream f(p.spec_file);
-      f << point_spec_text(spec, p);
+      f << text;
       if (!f) throw msd::Error(p.spec_file + ": cannot write");
     }
     long rss = 0;
     fs::remove(p.results_file);
-    const int code =
-        spawn({o.executable, "run", p.spec_file, "--solver", "msd", "--out", p.results_file, "--quiet"}, p.log_file, rss);
+    fs::remove(p.results_file + ".timeout");
+    bool timed_out = false;
+    const int code = spawn({o.executable, "run", p.spec_file, "--solver", "msd", "--out", p.results_file, "--quiet"},
+                           p.log_file, rss, o.point_timeout, &timed_out);
+    if (timed_out) std::ofstream(p.results_file + ".timeout") << o.point_timeout << "\n";
     if (o.log) {
       std::ostringstream s;
       s << "  point " << p.id << "/" << pts.size() << " (rank " << rank << "): h " << p.spacing << ", "
@@ -333,7 +378,7 @@ SweepResult run_sweep(const Spec& spec, const SweepGrid& grid, const SweepOption
     }
     // Peak memory goes beside the results (rank 0 reads it when merging).
     std::ofstream(p.results_file + ".rss") << rss << "\n";
-    if (code == 2 || !fs::exists(p.results_file))
+    if (!timed_out && (code == 2 || !fs::exists(p.results_file)))
       throw msd::Error("sweep point " + std::to_string(p.id) + " (" + p.spec_file + ") did not run: " +
                        tail_of(p.log_file));
   }
@@ -348,6 +393,19 @@ SweepResult run_sweep(const Spec& spec, const SweepGrid& grid, const SweepOption
     res.baseline_rss_mb = static_cast<double>(rss) / 1024.0;
   }
   for (auto& p : pts) {
+    double limit = 0.0;
+    if ((std::ifstream(p.results_file + ".timeout") >> limit)) {
+      p.status = "timeout";
+      p.failure = "stopped after " + num(limit, 4) + " s of wall time (sweep --point-timeout)";
+      if (fs::exists(p.results_file)) {
+        try {
+          const Results r = read_results(p.results_file);
+          if (r.series.count("time") && !r.series.at("time").empty()) p.failure_time = r.series.at("time").back();
+        } catch (const std::exception&) {
+        }
+      }
+      continue;
+    }
     read_point(p, res.reference_file, spec.mesh->spacing, res.load_series, res.load_rms_fem);
     std::ifstream in(p.results_file + ".rss");
     long rss = 0;
@@ -445,7 +503,7 @@ std::string format_sweep(const SweepResult& r) {
                   1e3 * p.spacing, std::isnan(p.dt) ? "adapt" : num(1e3 * p.dt, 3).c_str(), p.integrator.c_str(),
                   p.terms.c_str(), p.threshold > 0 ? num(p.threshold, 2).c_str() : "off", p.tets,
                   std::isnan(p.cost) ? "-" : num(p.cost, 3).c_str(), p.model_rss_mb,
-                  p.status == "complete" ? "ok" : "FAILED", pct(p.load_rel_rms).c_str(),
+                  p.status == "complete" ? "ok" : p.status == "timeout" ? "TIMEOUT" : "FAILED", pct(p.load_rel_rms).c_str(),
                   pct(p.load_rel_rms_working).c_str(),
                   std::isnan(p.volume_ratio_max_error) ? "-" : num(p.volume_ratio_max_error, 3).c_str(),
                   pct(p.displacement_rel_rms).c_str(), pct(p.time_error).c_str(), p.pareto ? "*" : "");

@@ -250,6 +250,18 @@ TEST(Cli, SweepRunsTheGridAndMergesOneTable) {
   const double e1 = std::stod(rows[0][col]), e5 = std::stod(rows[1][col]);
   EXPECT_GT(e1, 0.0);
   EXPECT_GT(e5, e1);
+  // A second sweep of the same grid keeps the points already run.
+  const std::string loud = " --spacing 0.01 --dt 1e-4,5e-4 --integrators symplectic_euler --terms all --thresholds off";
+  const Result again = sh("sweep " + dir.file("s.yaml") + " --out " + dir.file("sw") + loud);
+  ASSERT_EQ(again.code, 0) << again.output;
+  EXPECT_NE(again.output.find("point 2: kept from an earlier run"), std::string::npos) << again.output;
+  // A point over its time limit is stopped and marked, not counted on the front.
+  const Result slow = sh("sweep " + dir.file("s.yaml") + " --out " + dir.file("slow") + " --reference " +
+                         dir.file("sw/cli_fem.h5") + loud + " --no-cvode --point-timeout 0.001 --quiet");
+  ASSERT_EQ(slow.code, 0) << slow.output;
+  const std::string sj = slurp(dir.file("slow/cli_sweep.json"));
+  EXPECT_NE(sj.find("\"status\": \"timeout\""), std::string::npos) << sj;
+  EXPECT_EQ(sj.find("\"pareto\": true"), std::string::npos) << sj;
   // Under mpirun the same grid is spread over two processes and merged into one table.
   const std::string mpirun = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 timeout 300 mpirun -np 2 "
                              "--oversubscribe ";

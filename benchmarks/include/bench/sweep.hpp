@@ -44,7 +44,7 @@ struct SweepPoint {
   std::string integrator, terms;
   std::string spec_file, results_file, log_file;  ///< written by the sweep
   // results
-  std::string status = "not run";   ///< complete | failed | error
+  std::string status = "not run";   ///< complete | failed | timeout
   std::string failure;              ///< the failure message of a failed run
   double failure_time = std::numeric_limits<double>::quiet_NaN();
   int tets = 0, nodes = 0;
@@ -103,6 +103,7 @@ struct SweepOptions {
   std::string out_dir;
   std::string executable;         ///< the tissuebench binary run for each point
   std::string reference;          ///< an existing FEM results file ("" = compute into out_dir)
+  double point_timeout = 0.0;     ///< s of wall time per point before it is stopped (0 = none)
   std::function<void(const std::string&)> log;
 };
 
