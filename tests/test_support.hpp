@@ -51,6 +51,20 @@ inline msd::TetMesh corner_tet_mesh(double e) {
   return m;
 }
 
+/// A small uni-axial spec (a 2 x 2 x 4 cm box at h = 1 cm, 80 tets, physical
+/// constants, compression to -0.1 then extension to +0.1 in 0.4 s) shared by
+/// the benchmark-layer suites.
+inline const char* small_uniaxial_spec() {
+  return R"(name: small
+geometry: {shape: box, size: [0.02, 0.02, 0.04]}
+mesh: {spacing: 0.01}
+material: {density: 1000, youngs_modulus: 5000, damping_time: 0.002}
+msd: {constants: physical, repulsion_factor: 0.1, volume_factor: 0.5, dt: 1.0e-4}
+loading: {type: uniaxial, path: [[0, 0], [0.2, -0.1], [0.4, 0.1]]}
+output: {interval: 0.02}
+)";
+}
+
 /// A fresh empty folder under the system temp dir, removed by the destructor.
 class TempDir {
  public:

@@ -3,6 +3,7 @@
 #include "bench/fem_runner.hpp"
 #include "bench/msd_runner.hpp"
 #include "bench/results_file.hpp"
+#include "bench/series_tools.hpp"
 #include "bench/sha256.hpp"
 
 #include <unsupported/Eigen/NonLinearOptimization>
@@ -44,14 +45,6 @@ std::map<std::string, std::vector<double>> simulate_msd(const Spec& spec) {
 
 namespace {
 
-double interpolate(const std::vector<double>& t, const std::vector<double>& y, double at) {
-  const auto it = std::lower_bound(t.begin(), t.end(), at - 1e-12);
-  if (it == t.end()) return y.back();
-  if (it == t.begin()) return y.front();
-  const size_t i = static_cast<size_t>(it - t.begin());
-  const double w = (at - t[i - 1]) / (t[i] - t[i - 1]);
-  return (1 - w) * y[i - 1] + w * y[i];
-}
 
 struct Target {
   Spec spec;
@@ -78,7 +71,9 @@ bool residuals(const std::vector<Target>& targets, const CalibrationParameters& 
     const double n = static_cast<double>(tg.t.size());
     double sum = 0.0, vmax = 0.0;
     for (size_t i = 0; i < tg.t.size(); ++i) {
-      const double d = (interpolate(tm, ym, tg.t[i]) - tg.y[i]) / tg.rms;
+      const double y = interpolate(tm, ym, tg.t[i]);
+      if (std::isnan(y)) return false;  // the run did not reach a reference time
+      const double d = (y - tg.y[i]) / tg.rms;
       r.push_back(d / std::sqrt(n));
       sum += d * d;
       if (tg.volume) {

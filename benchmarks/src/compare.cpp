@@ -1,5 +1,7 @@
 #include "bench/compare.hpp"
 
+#include "bench/series_tools.hpp"
+
 #include "bench/results_file.hpp"
 #include "msd/core/types.hpp"
 
@@ -20,16 +22,6 @@ std::string loading_of(const Results& r) {
   return "";
 }
 
-// y(t) by linear interpolation in t (t sorted); NaN outside.
-double interpolate(const std::vector<double>& t, const std::vector<double>& y, double at) {
-  if (t.empty() || at < t.front() - 1e-12 || at > t.back() + 1e-12) return std::numeric_limits<double>::quiet_NaN();
-  const auto it = std::lower_bound(t.begin(), t.end(), at);
-  if (it == t.begin()) return y.front();
-  if (it == t.end()) return y.back();
-  const size_t i = static_cast<size_t>(it - t.begin());
-  const double w = (at - t[i - 1]) / (t[i] - t[i - 1]);
-  return (1 - w) * y[i - 1] + w * y[i];
-}
 
 const std::vector<double>& series(const Results& r, const std::string& name, const std::string& file) {
   const auto it = r.series.find(name);
@@ -179,12 +171,6 @@ Comparison compare_results(const std::string& msd_file, const std::string& fem_f
 
 namespace {
 
-std::string num(double v) {
-  if (std::isnan(v)) return "null";
-  std::ostringstream s;
-  s << std::setprecision(10) << v;
-  return s.str();
-}
 
 }  // namespace
 
@@ -193,18 +179,18 @@ void write_comparison_json(const Comparison& c, const std::string& path) {
   if (!out) throw msd::Error(path + ": cannot write");
   out << "{\n  \"spec\": \"" << c.spec << "\",\n  \"loading\": \"" << c.loading << "\",\n  \"load_series\": \""
       << c.load_series << "\",\n  \"units\": \"" << c.units << "\",\n  \"points\": " << c.points
-      << ",\n  \"load_rms_fem\": " << num(c.load_rms_fem) << ",\n  \"load_rel_rms\": " << num(c.load_rel_rms)
-      << ",\n  \"load_rel_rms_working\": " << num(c.load_rel_rms_working)
-      << ",\n  \"load_max_abs_error\": " << num(c.load_max_abs_error)
-      << ",\n  \"volume_ratio_max_error\": " << num(c.volume_ratio_max_error)
-      << ",\n  \"displacement_rel_rms\": " << num(c.displacement_rel_rms)
-      << ",\n  \"displacement_rel_max\": " << num(c.displacement_rel_max) << ",\n  \"nodes_compared\": "
+      << ",\n  \"load_rms_fem\": " << json_number(c.load_rms_fem) << ",\n  \"load_rel_rms\": " << json_number(c.load_rel_rms)
+      << ",\n  \"load_rel_rms_working\": " << json_number(c.load_rel_rms_working)
+      << ",\n  \"load_max_abs_error\": " << json_number(c.load_max_abs_error)
+      << ",\n  \"volume_ratio_max_error\": " << json_number(c.volume_ratio_max_error)
+      << ",\n  \"displacement_rel_rms\": " << json_number(c.displacement_rel_rms)
+      << ",\n  \"displacement_rel_max\": " << json_number(c.displacement_rel_max) << ",\n  \"nodes_compared\": "
       << c.nodes_compared << ",\n  \"nodes_outside\": " << c.nodes_outside << ",\n  \"frames_compared\": "
-      << c.frames_compared << ",\n  \"frequency_msd\": " << num(c.frequency_msd)
-      << ",\n  \"frequency_fem\": " << num(c.frequency_fem) << ",\n  \"frequency_rel_error\": "
-      << num(c.frequency_rel_error) << ",\n  \"damping_ratio_msd\": " << num(c.damping_ratio_msd)
-      << ",\n  \"damping_ratio_fem\": " << num(c.damping_ratio_fem) << ",\n  \"damping_ratio_abs_error\": "
-      << num(c.damping_ratio_abs_error) << "\n}\n";
+      << c.frames_compared << ",\n  \"frequency_msd\": " << json_number(c.frequency_msd)
+      << ",\n  \"frequency_fem\": " << json_number(c.frequency_fem) << ",\n  \"frequency_rel_error\": "
+      << json_number(c.frequency_rel_error) << ",\n  \"damping_ratio_msd\": " << json_number(c.damping_ratio_msd)
+      << ",\n  \"damping_ratio_fem\": " << json_number(c.damping_ratio_fem) << ",\n  \"damping_ratio_abs_error\": "
+      << json_number(c.damping_ratio_abs_error) << "\n}\n";
 }
 
 std::string format_comparison(const Comparison& c) {

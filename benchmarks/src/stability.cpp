@@ -1,6 +1,7 @@
 #include "bench/stability.hpp"
 
 #include "bench/msd_runner.hpp"
+#include "bench/series_tools.hpp"
 #include "bench/sweep.hpp"
 #include "msd/forces/element_forces.hpp"
 
@@ -17,25 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string num(double v, int precision = 6) {
-  if (std::isnan(v)) return "null";
-  std::ostringstream s;
-  s << std::setprecision(precision) << v;
-  return s.str();
-}
 
-std::string quoted(const std::string& s) {
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    if (c == '\n') {
-      o += "\\n";
-      continue;
-    }
-    o += c;
-  }
-  return o + "\"";
-}
 
 int column(const MsdProblem& p, const std::string& name) {
   for (size_t k = 0; k < p.columns.size(); ++k)
@@ -98,8 +81,8 @@ bool is_stable(const TrialOutcome& t, const TrialOutcome& ref, const StabilityCr
   std::string why;
   if (!t.finite) why = t.failure;
   else if (t.max_kinetic_energy > c.energy_growth * ref.max_kinetic_energy + c.energy_floor)
-    why = "energy growth: kinetic energy " + num(t.max_kinetic_energy, 3) + " J against " +
-          num(ref.max_kinetic_energy, 3) + " J at the reference dt";
+    why = "energy growth: kinetic energy " + json_number(t.max_kinetic_energy, 3) + " J against " +
+          json_number(ref.max_kinetic_energy, 3) + " J at the reference dt";
   else if (t.final_inverted > ref.final_inverted)
     why = "unrecoverable inversion: " + std::to_string(t.final_inverted) + " elements inverted at the end (" +
           std::to_string(ref.final_inverted) + " at the reference dt)";
@@ -149,7 +132,7 @@ DtSearch search_dt(const Spec& spec, const std::string& integrator, const std::s
     if (next <= lo) break;  // stable up to the cap
     std::string why;
     const bool ok = is_stable(at(next), ref, c, &why);
-    if (log) log("  " + integrator + "/" + terms + " dt " + num(next, 4) + (ok ? " stable" : " unstable: " + why));
+    if (log) log("  " + integrator + "/" + terms + " dt " + json_number(next, 4) + (ok ? " stable" : " unstable: " + why));
     if (ok) lo = next;
     else {
       hi = next;
@@ -160,7 +143,7 @@ DtSearch search_dt(const Spec& spec, const std::string& integrator, const std::s
     const double mid = std::sqrt(lo * hi);
     std::string why;
     const bool ok = is_stable(at(mid), ref, c, &why);
-    if (log) log("  " + integrator + "/" + terms + " dt " + num(mid, 4) + (ok ? " stable" : " unstable: " + why));
+    if (log) log("  " + integrator + "/" + terms + " dt " + json_number(mid, 4) + (ok ? " stable" : " unstable: " + why));
     if (ok) lo = mid;
     else {
       hi = mid;
@@ -235,9 +218,9 @@ std::vector<ExtremeRow> run_extremes(const Spec& spec, const std::vector<std::st
         });
         ExtremeRow r{k.name, k.description, terms, dt, run_trial(s)};
         if (log)
-          log("  " + k.name + " / " + terms + " dt " + num(dt, 3) + ": " +
-              (r.outcome.finite ? "finite" : "FAILED at t = " + num(r.outcome.failure_time, 4) + " s") + ", " +
-              num(r.outcome.wall_seconds, 3) + " s");
+          log("  " + k.name + " / " + terms + " dt " + json_number(dt, 3) + ": " +
+              (r.outcome.finite ? "finite" : "FAILED at t = " + json_number(r.outcome.failure_time, 4) + " s") + ", " +
+              json_number(r.outcome.wall_seconds, 3) + " s");
         rows.push_back(r);
         if (r.outcome.finite) break;
       }
@@ -254,7 +237,7 @@ std::string format_dt_searches(const std::vector<DtSearch>& rows) {
   for (const auto& d : rows) {
     std::snprintf(line, sizeof line, "%-18s %-16s %10.3g %14.4g %14s %7d %s\n", d.integrator.c_str(), d.terms.c_str(),
                   d.reference_dt, d.largest_stable_dt,
-                  std::isnan(d.smallest_unstable_dt) ? "(cap)" : num(d.smallest_unstable_dt, 4).c_str(), d.trials,
+                  std::isnan(d.smallest_unstable_dt) ? "(cap)" : json_number(d.smallest_unstable_dt, 4).c_str(), d.trials,
                   d.unstable_reason.substr(0, 80).c_str());
     s << line;
   }
@@ -270,7 +253,7 @@ std::string format_extremes(const std::vector<ExtremeRow>& rows) {
   for (const auto& r : rows) {
     const TrialOutcome& o = r.outcome;
     std::snprintf(line, sizeof line, "%-20s %-16s %10.3g %-8s %10s %8d %8d %8.3f %10.4g %10.4g %s\n", r.name.c_str(),
-                  r.terms.c_str(), r.dt, o.finite ? "yes" : "NO", o.finite ? "-" : num(o.failure_time, 4).c_str(),
+                  r.terms.c_str(), r.dt, o.finite ? "yes" : "NO", o.finite ? "-" : json_number(o.failure_time, 4).c_str(),
                   o.max_inverted, o.final_inverted, o.volume_error(), o.min_load, o.max_load,
                   o.failure.substr(0, 90).c_str());
     s << line;
@@ -284,28 +267,28 @@ void write_stability_json(const std::string& spec, const std::vector<DtSearch>& 
   {
     std::ofstream out(tmp);
     if (!out) throw msd::Error(path + ": cannot write");
-    out << "{\n  \"spec\": " << quoted(spec) << ",\n  \"dt_search\": [\n";
+    out << "{\n  \"spec\": " << json_string(spec) << ",\n  \"dt_search\": [\n";
     for (size_t k = 0; k < dt.size(); ++k) {
       const auto& d = dt[k];
-      out << "    {\"integrator\": " << quoted(d.integrator) << ", \"terms\": " << quoted(d.terms)
-          << ", \"reference_dt\": " << num(d.reference_dt) << ", \"largest_stable_dt\": " << num(d.largest_stable_dt)
-          << ", \"smallest_unstable_dt\": " << num(d.smallest_unstable_dt) << ", \"reason\": "
-          << quoted(d.unstable_reason) << ", \"trials\": " << d.trials << ", \"wall_seconds\": "
-          << num(d.wall_seconds) << "}" << (k + 1 < dt.size() ? "," : "") << "\n";
+      out << "    {\"integrator\": " << json_string(d.integrator) << ", \"terms\": " << json_string(d.terms)
+          << ", \"reference_dt\": " << json_number(d.reference_dt) << ", \"largest_stable_dt\": " << json_number(d.largest_stable_dt)
+          << ", \"smallest_unstable_dt\": " << json_number(d.smallest_unstable_dt) << ", \"reason\": "
+          << json_string(d.unstable_reason) << ", \"trials\": " << d.trials << ", \"wall_seconds\": "
+          << json_number(d.wall_seconds) << "}" << (k + 1 < dt.size() ? "," : "") << "\n";
     }
     out << "  ],\n  \"extremes\": [\n";
     for (size_t k = 0; k < ex.size(); ++k) {
       const auto& r = ex[k];
       const auto& o = r.outcome;
-      out << "    {\"case\": " << quoted(r.name) << ", \"description\": " << quoted(r.description)
-          << ", \"terms\": " << quoted(r.terms) << ", \"dt\": " << num(r.dt) << ", \"finite\": "
-          << (o.finite ? "true" : "false") << ", \"failure\": " << quoted(o.failure) << ", \"failure_time\": "
-          << num(o.failure_time) << ", \"max_inverted\": " << o.max_inverted << ", \"final_inverted\": "
-          << o.final_inverted << ", \"volume_error\": " << num(o.volume_error()) << ", \"min_volume_ratio\": "
-          << num(o.min_volume_ratio) << ", \"max_volume_ratio\": " << num(o.max_volume_ratio)
-          << ", \"min_load\": " << num(o.min_load) << ", \"max_load\": " << num(o.max_load)
-          << ", \"max_kinetic_energy\": " << num(o.max_kinetic_energy) << ", \"steps\": " << o.steps
-          << ", \"wall_seconds\": " << num(o.wall_seconds) << "}" << (k + 1 < ex.size() ? "," : "") << "\n";
+      out << "    {\"case\": " << json_string(r.name) << ", \"description\": " << json_string(r.description)
+          << ", \"terms\": " << json_string(r.terms) << ", \"dt\": " << json_number(r.dt) << ", \"finite\": "
+          << (o.finite ? "true" : "false") << ", \"failure\": " << json_string(o.failure) << ", \"failure_time\": "
+          << json_number(o.failure_time) << ", \"max_inverted\": " << o.max_inverted << ", \"final_inverted\": "
+          << o.final_inverted << ", \"volume_error\": " << json_number(o.volume_error()) << ", \"min_volume_ratio\": "
+          << json_number(o.min_volume_ratio) << ", \"max_volume_ratio\": " << json_number(o.max_volume_ratio)
+          << ", \"min_load\": " << json_number(o.min_load) << ", \"max_load\": " << json_number(o.max_load)
+          << ", \"max_kinetic_energy\": " << json_number(o.max_kinetic_energy) << ", \"steps\": " << o.steps
+          << ", \"wall_seconds\": " << json_number(o.wall_seconds) << "}" << (k + 1 < ex.size() ? "," : "") << "\n";
     }
     out << "  ]\n}\n";
   }

@@ -3,6 +3,7 @@
 #include "bench/compare.hpp"
 #include "bench/fem_runner.hpp"
 #include "bench/results_file.hpp"
+#include "bench/series_tools.hpp"
 #include "fem/fem.hpp"
 #include "msd/integrate/step.hpp"
 
@@ -38,25 +39,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 bool same(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)); }
 
-std::string num(double v, int precision = 8) {
-  if (std::isnan(v)) return "null";
-  std::ostringstream s;
-  s << std::setprecision(precision) << v;
-  return s.str();
-}
 
-std::string quoted(const std::string& s) {
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    if (c == '\n') {
-      o += "\\n";
-      continue;
-    }
-    o += c;
-  }
-  return o + "\"";
-}
 
 // Runs `argv` as a child process with the MPI launcher's variables removed from
 // its environment (the child is a process of its own, not a rank of this job),
@@ -122,16 +105,6 @@ std::string tail_of(const std::string& file, size_t max_chars = 400) {
   return s.size() > max_chars ? s.substr(s.size() - max_chars) : s;
 }
 
-double interpolate(const std::vector<double>& t, const std::vector<double>& y, double at) {
-  if (t.empty()) return kNaN;
-  if (at < t.front() - 1e-9 || at > t.back() + 1e-9) return kNaN;
-  const auto it = std::lower_bound(t.begin(), t.end(), at - 1e-12);
-  if (it == t.end()) return y.back();
-  if (it == t.begin()) return y.front();
-  const size_t i = static_cast<size_t>(it - t.begin());
-  const double w = (at - t[i - 1]) / (t[i] - t[i - 1]);
-  return (1 - w) * y[i - 1] + w * y[i];
-}
 
 // Reads what the sweep reports of a point's results file.
 void read_point(SweepPoint& p, const std::string& reference, double spec_spacing, std::string& load_series,
@@ -194,8 +167,8 @@ std::vector<SweepPoint> sweep_points(const Spec& spec, const SweepGrid& g) {
     if (!(d > 0.0)) throw msd::Error("sweep: time steps must be positive");
   for (double d : dts)
     if (d > spec.output.interval)
-      throw msd::Error("sweep: time step " + num(d) + " s is longer than the spec's output interval " +
-                       num(spec.output.interval) + " s");
+      throw msd::Error("sweep: time step " + json_number(d) + " s is longer than the spec's output interval " +
+                       json_number(spec.output.interval) + " s");
   for (double t : thr)
     if (t < 0.0 || t > 1.0) throw msd::Error("sweep: thresholds lie in [0, 1] (0 = off)");
   for (const auto& i : ints) {
@@ -372,8 +345,8 @@ SweepResult run_sweep(const Spec& spec, const SweepGrid& grid, const SweepOption
     if (o.log) {
       std::ostringstream s;
       s << "  point " << p.id << "/" << pts.size() << " (rank " << rank << "): h " << p.spacing << ", "
-        << p.integrator << (p.integrator == "cvode" ? "" : ", dt " + num(p.dt, 4)) << ", " << p.terms
-        << ", threshold " << (p.threshold > 0 ? num(p.threshold, 3) : "off") << " -> exit " << code;
+        << p.integrator << (p.integrator == "cvode" ? "" : ", dt " + json_number(p.dt, 4)) << ", " << p.terms
+        << ", threshold " << (p.threshold > 0 ? json_number(p.threshold, 3) : "off") << " -> exit " << code;
       o.log(s.str());
     }
     // Peak memory goes beside the results (rank 0 reads it when merging).
@@ -396,7 +369,7 @@ SweepResult run_sweep(const Spec& spec, const SweepGrid& grid, const SweepOption
     double limit = 0.0;
     if ((std::ifstream(p.results_file + ".timeout") >> limit)) {
       p.status = "timeout";
-      p.failure = "stopped after " + num(limit, 4) + " s of wall time (sweep --point-timeout)";
+      p.failure = "stopped after " + json_number(limit, 4) + " s of wall time (sweep --point-timeout)";
       if (fs::exists(p.results_file)) {
         try {
           const Results r = read_results(p.results_file);
@@ -436,29 +409,29 @@ void write_sweep_json(const SweepResult& r, const std::string& path) {
   {
     std::ofstream out(tmp);
     if (!out) throw msd::Error(path + ": cannot write");
-    out << "{\n  \"spec\": " << quoted(r.spec) << ",\n  \"spec_path\": " << quoted(r.spec_path)
-        << ",\n  \"load_series\": " << quoted(r.load_series) << ",\n  \"load_rms_fem\": " << num(r.load_rms_fem)
-        << ",\n  \"reference\": " << quoted(r.reference_file) << ",\n  \"ranks\": " << r.ranks
-        << ",\n  \"baseline_rss_mb\": " << num(r.baseline_rss_mb) << ",\n  \"fem\": {\"label\": "
-        << quoted(r.fem.label) << ", \"dofs\": " << r.fem.dofs << ", \"cells\": " << r.fem.cells
-        << ", \"wall_seconds\": " << num(r.fem.wall_seconds) << ", \"simulated_seconds\": "
-        << num(r.fem.simulated_seconds) << ", \"cost\": " << num(r.fem.cost) << "},\n  \"points\": [\n";
+    out << "{\n  \"spec\": " << json_string(r.spec) << ",\n  \"spec_path\": " << json_string(r.spec_path)
+        << ",\n  \"load_series\": " << json_string(r.load_series) << ",\n  \"load_rms_fem\": " << json_number(r.load_rms_fem)
+        << ",\n  \"reference\": " << json_string(r.reference_file) << ",\n  \"ranks\": " << r.ranks
+        << ",\n  \"baseline_rss_mb\": " << json_number(r.baseline_rss_mb) << ",\n  \"fem\": {\"label\": "
+        << json_string(r.fem.label) << ", \"dofs\": " << r.fem.dofs << ", \"cells\": " << r.fem.cells
+        << ", \"wall_seconds\": " << json_number(r.fem.wall_seconds) << ", \"simulated_seconds\": "
+        << json_number(r.fem.simulated_seconds) << ", \"cost\": " << json_number(r.fem.cost) << "},\n  \"points\": [\n";
     for (size_t k = 0; k < r.points.size(); ++k) {
       const SweepPoint& p = r.points[k];
-      out << "    {\"id\": " << p.id << ", \"spacing\": " << num(p.spacing) << ", \"dt\": " << num(p.dt)
-          << ", \"integrator\": " << quoted(p.integrator) << ", \"terms\": " << quoted(p.terms)
-          << ", \"threshold\": " << num(p.threshold) << ", \"status\": " << quoted(p.status)
-          << ", \"failure\": " << quoted(p.failure) << ", \"failure_time\": " << num(p.failure_time)
+      out << "    {\"id\": " << p.id << ", \"spacing\": " << json_number(p.spacing) << ", \"dt\": " << json_number(p.dt)
+          << ", \"integrator\": " << json_string(p.integrator) << ", \"terms\": " << json_string(p.terms)
+          << ", \"threshold\": " << json_number(p.threshold) << ", \"status\": " << json_string(p.status)
+          << ", \"failure\": " << json_string(p.failure) << ", \"failure_time\": " << json_number(p.failure_time)
           << ", \"tets\": " << p.tets << ", \"nodes\": " << p.nodes << ", \"steps\": " << p.steps
-          << ", \"wall_seconds\": " << num(p.wall_seconds) << ", \"simulated_seconds\": " << num(p.simulated_seconds)
-          << ", \"cost\": " << num(p.cost) << ", \"peak_rss_mb\": " << num(p.peak_rss_mb)
-          << ", \"model_rss_mb\": " << num(p.model_rss_mb)
-          << ", \"load_rel_rms\": " << num(p.load_rel_rms) << ", \"load_rel_rms_working\": "
-          << num(p.load_rel_rms_working) << ", \"volume_ratio_max_error\": " << num(p.volume_ratio_max_error)
-          << ", \"displacement_rel_rms\": " << num(p.displacement_rel_rms) << ", \"frequency_rel_error\": "
-          << num(p.frequency_rel_error) << ", \"time_error\": " << num(p.time_error)
+          << ", \"wall_seconds\": " << json_number(p.wall_seconds) << ", \"simulated_seconds\": " << json_number(p.simulated_seconds)
+          << ", \"cost\": " << json_number(p.cost) << ", \"peak_rss_mb\": " << json_number(p.peak_rss_mb)
+          << ", \"model_rss_mb\": " << json_number(p.model_rss_mb)
+          << ", \"load_rel_rms\": " << json_number(p.load_rel_rms) << ", \"load_rel_rms_working\": "
+          << json_number(p.load_rel_rms_working) << ", \"volume_ratio_max_error\": " << json_number(p.volume_ratio_max_error)
+          << ", \"displacement_rel_rms\": " << json_number(p.displacement_rel_rms) << ", \"frequency_rel_error\": "
+          << json_number(p.frequency_rel_error) << ", \"time_error\": " << json_number(p.time_error)
           << ", \"max_inverted\": " << p.max_inverted << ", \"pareto\": " << (p.pareto ? "true" : "false")
-          << ", \"results_file\": " << quoted(p.results_file) << "}" << (k + 1 < r.points.size() ? "," : "")
+          << ", \"results_file\": " << json_string(p.results_file) << "}" << (k + 1 < r.points.size() ? "," : "")
           << "\n";
     }
     out << "  ]\n}\n";
@@ -475,7 +448,7 @@ void write_sweep_csv(const SweepResult& r, const std::string& path) {
     out << "id,spacing,dt,integrator,terms,threshold,status,failure_time,tets,nodes,steps,wall_seconds,"
            "simulated_seconds,cost,peak_rss_mb,model_rss_mb,load_rel_rms,load_rel_rms_working,volume_ratio_max_error,"
            "displacement_rel_rms,frequency_rel_error,time_error,max_inverted,pareto\n";
-    auto c = [](double v) { return std::isnan(v) ? std::string() : num(v); };
+    auto c = [](double v) { return std::isnan(v) ? std::string() : json_number(v); };
     for (const auto& p : r.points)
       out << p.id << "," << c(p.spacing) << "," << c(p.dt) << "," << p.integrator << "," << p.terms << ","
           << c(p.threshold) << "," << p.status << "," << c(p.failure_time) << "," << p.tets << "," << p.nodes << ","
@@ -491,21 +464,21 @@ std::string format_sweep(const SweepResult& r) {
   std::ostringstream s;
   char line[512];
   s << "Speed-accuracy sweep of " << r.spec << " (" << r.points.size() << " points, " << r.ranks
-    << " process(es)); errors relative to the FEM " << r.load_series << " RMS " << num(r.load_rms_fem, 4)
+    << " process(es)); errors relative to the FEM " << r.load_series << " RMS " << json_number(r.load_rms_fem, 4)
     << "; '*' = Pareto front (cost vs working-range error)\n";
   std::snprintf(line, sizeof line, "%4s %7s %8s %-16s %-15s %5s %6s %8s %8s %7s %8s %8s %8s %8s %8s %s\n", "id",
                 "h/mm", "dt/ms", "integrator", "terms", "thr", "tets", "cost", "+RSS/MB", "status", "err%", "errWR%",
                 "dVmax", "disp%", "time%", "");
   s << line;
-  auto pct = [](double v) { return std::isnan(v) ? std::string("-") : num(100.0 * v, 3); };
+  auto pct = [](double v) { return std::isnan(v) ? std::string("-") : json_number(100.0 * v, 3); };
   for (const auto& p : r.points) {
     std::snprintf(line, sizeof line, "%4d %7.2f %8s %-16s %-15s %5s %6d %8s %8.1f %7s %8s %8s %8s %8s %8s %s\n", p.id,
-                  1e3 * p.spacing, std::isnan(p.dt) ? "adapt" : num(1e3 * p.dt, 3).c_str(), p.integrator.c_str(),
-                  p.terms.c_str(), p.threshold > 0 ? num(p.threshold, 2).c_str() : "off", p.tets,
-                  std::isnan(p.cost) ? "-" : num(p.cost, 3).c_str(), p.model_rss_mb,
+                  1e3 * p.spacing, std::isnan(p.dt) ? "adapt" : json_number(1e3 * p.dt, 3).c_str(), p.integrator.c_str(),
+                  p.terms.c_str(), p.threshold > 0 ? json_number(p.threshold, 2).c_str() : "off", p.tets,
+                  std::isnan(p.cost) ? "-" : json_number(p.cost, 3).c_str(), p.model_rss_mb,
                   p.status == "complete" ? "ok" : p.status == "timeout" ? "TIMEOUT" : "FAILED", pct(p.load_rel_rms).c_str(),
                   pct(p.load_rel_rms_working).c_str(),
-                  std::isnan(p.volume_ratio_max_error) ? "-" : num(p.volume_ratio_max_error, 3).c_str(),
+                  std::isnan(p.volume_ratio_max_error) ? "-" : json_number(p.volume_ratio_max_error, 3).c_str(),
                   pct(p.displacement_rel_rms).c_str(), pct(p.time_error).c_str(), p.pareto ? "*" : "");
     s << line;
   }

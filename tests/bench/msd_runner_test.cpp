@@ -10,14 +10,7 @@
 
 namespace {
 
-const char* kSpec = R"(name: small
-geometry: {shape: box, size: [0.02, 0.02, 0.04]}
-mesh: {spacing: 0.01}
-material: {density: 1000, youngs_modulus: 5000, damping_time: 0.002}
-msd: {constants: physical, repulsion_factor: 0.1, volume_factor: 0.5, dt: 1.0e-4}
-loading: {type: uniaxial, path: [[0, 0], [0.2, -0.1], [0.4, 0.1]]}
-output: {interval: 0.02}
-)";
+const char* const kSpec = testing_support::small_uniaxial_spec();
 
 }  // namespace
 
