@@ -66,6 +66,16 @@ int nearest_node(const Points& x, const Vec3& p) {
   return static_cast<int>(best);
 }
 
+ElementVolumes element_volumes(const Model& model, const Points& x) {
+  ElementVolumes r;
+  for (const Element& el : model.elements) {
+    const double ve = tet_signed_volume(x, el.nodes);
+    r.volume += ve;
+    r.inverted += ve <= 0.0;
+  }
+  return r;
+}
+
 RunStats run_experiment(const Model& model, State state, double end_time, double size,
                         const TimeSteppingOptions& opt, const ExperimentHooks& hooks) {
   if (!(opt.dt > 0.0) || !std::isfinite(opt.dt)) throw Error("time step dt must be positive");

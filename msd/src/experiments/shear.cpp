@@ -27,13 +27,9 @@ ShearSample measure_shear(const Model& model, const UniaxialSetup& setup, const 
   s.shear_strain = offset / static_cast<double>(top.nodes.size()) / setup.length;
   s.shear_stress = -f.x() / setup.area;
   s.normal_stress = -f.z() / setup.area;
-  double v = 0.0;
-  for (const Element& el : model.elements) {
-    const double ve = tet_signed_volume(state.x, el.nodes);
-    v += ve;
-    s.inverted_elements += ve <= 0.0;
-  }
-  s.volume_ratio = v / setup.volume;
+  const ElementVolumes ev = element_volumes(model, state.x);
+  s.inverted_elements = ev.inverted;
+  s.volume_ratio = ev.volume / setup.volume;
   s.kinetic_energy = kinetic_energy(model, state.v);
   return s;
 }

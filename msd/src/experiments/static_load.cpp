@@ -44,13 +44,9 @@ ClampSample measure_clamp(const Model& model, const ClampSetup& setup, const Loa
     if (model.terms & kGravity) f += s.load_factor * model.mass[n] * model.gravity;
     s.reaction -= f;
   }
-  double v = 0.0;
-  for (const Element& el : model.elements) {
-    const double ve = tet_signed_volume(state.x, el.nodes);
-    v += ve;
-    s.inverted_elements += ve <= 0.0;
-  }
-  s.volume_ratio = v / setup.volume;
+  const ElementVolumes ev = element_volumes(model, state.x);
+  s.inverted_elements = ev.inverted;
+  s.volume_ratio = ev.volume / setup.volume;
   s.kinetic_energy = kinetic_energy(model, state.v);
   return s;
 }

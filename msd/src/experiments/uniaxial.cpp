@@ -74,15 +74,9 @@ UniaxialSample measure_uniaxial(const Model& model, const UniaxialSetup& setup, 
   s.strain = (ztop - zbot - setup.length) / setup.length;
   s.nominal_stress = -f.z() / setup.area;
   s.lateral_force = std::hypot(f.x(), f.y());
-  double v = 0.0;
-  int inverted = 0;
-  for (const Element& el : model.elements) {
-    const double ve = tet_signed_volume(state.x, el.nodes);
-    v += ve;
-    inverted += ve <= 0.0;
-  }
-  s.volume_ratio = v / setup.volume;
-  s.inverted_elements = inverted;
+  const ElementVolumes ev = element_volumes(model, state.x);
+  s.volume_ratio = ev.volume / setup.volume;
+  s.inverted_elements = ev.inverted;
   s.kinetic_energy = kinetic_energy(model, state.v);
   s.nonlinear_active = scratch.nonlinear_active;
   return s;

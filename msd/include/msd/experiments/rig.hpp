@@ -33,6 +33,14 @@ Points face_load(const TetMesh& mesh, const std::vector<int>& nodes, const Vec3&
 /// Index of the node nearest p.
 int nearest_node(const Points& x, const Vec3& p);
 
+/// Total signed volume of the model's elements at positions x (3 x N, m^3)
+/// and how many of them are inverted or flat (signed volume <= 0).
+struct ElementVolumes {
+  double volume = 0.0;
+  int inverted = 0;
+};
+ElementVolumes element_volumes(const Model& model, const Points& x);
+
 struct TimeSteppingOptions {
   double dt = 1e-4;
   Integrator integrator = Integrator::SymplecticEuler;
