@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <map>
 #include <sstream>
 
 #include <chrono>
@@ -245,7 +246,9 @@ void mark_pareto(std::vector<SweepPoint>& pts) {
   }
 }
 
-void fill_time_errors(std::vector<SweepPoint>& pts, double load_rms_fem) {
+void fill_time_errors(std::vector<SweepPoint>& pts, const std::string& load_series, double load_rms_fem) {
+  if (load_series.empty() || !(load_rms_fem > 0.0)) return;
+  std::map<int, Results> cvode_runs;  // each CVODE point's file, read once
   for (auto& p : pts) {
     if (p.integrator == "cvode" || p.status != "complete") continue;
     const SweepPoint* ref = nullptr;
@@ -253,26 +256,21 @@ void fill_time_errors(std::vector<SweepPoint>& pts, double load_rms_fem) {
       if (q.integrator == "cvode" && q.status == "complete" && same(q.spacing, p.spacing) && q.terms == p.terms &&
           same(q.threshold, p.threshold))
         ref = &q;
-    if (!ref || !(load_rms_fem > 0.0)) continue;
-    const Results a = read_results(p.results_file), b = read_results(ref->results_file);
-    // The compared series: the one the FEM comparison used (first non-time load column present in both).
-    std::string name;
-    for (const char* k : {"nominal_stress", "shear_stress", "tip_displacement", "tip_displacement_z",
-                          "tip_displacement_y", "tip_displacement_x"})
-      if (a.series.count(k) && b.series.count(k)) {
-        name = k;
-        break;
-      }
-    if (name.empty()) continue;
+    if (!ref) continue;
+    if (!cvode_runs.count(ref->id)) cvode_runs.emplace(ref->id, read_results(ref->results_file));
+    const Results& b = cvode_runs.at(ref->id);
+    const Results a = read_results(p.results_file);
+    if (!a.series.count(load_series) || !b.series.count(load_series)) continue;
     const auto& ta = a.series.at("time");
     const auto& tb = b.series.at("time");
+    const auto& ya = a.series.at(load_series);
+    const auto& yb = b.series.at(load_series);
     double sum = 0.0;
     long n = 0;
     for (size_t i = 0; i < tb.size(); ++i) {
-      const double y = interpolate(ta, a.series.at(name), tb[i]);
+      const double y = interpolate(ta, ya, tb[i]);
       if (std::isnan(y)) continue;
-      const double d = y - b.series.at(name)[i];
-      sum += d * d;
+      sum += (y - yb[i]) * (y - yb[i]);
       ++n;
     }
     if (n > 0) p.time_error = std::sqrt(sum / static_cast<double>(n)) / load_rms_fem;
@@ -384,12 +382,7 @@ SweepResult run_sweep(const Spec& spec, const SweepGrid& grid, const SweepOption
     long rss = 0;
     if (in >> rss) p.peak_rss_mb = static_cast<double>(rss) / 1024.0;
   }
-  if (res.load_series.empty()) {
-    // No complete point: still name the FEM's curve scale.
-    for (const auto& p : pts)
-      if (p.status == "complete") res.load_series = "?";
-  }
-  fill_time_errors(pts, res.load_rms_fem);
+  fill_time_errors(pts, res.load_series, res.load_rms_fem);
   mark_pareto(pts);
   res.points = std::move(pts);
 

@@ -79,8 +79,9 @@ std::string point_spec_text(const Spec& spec, const SweepPoint& p);
 void mark_pareto(std::vector<SweepPoint>& points);
 
 /// Fills the time errors (fixed-step points against the CVODE point of their
-/// spatial configuration) from the points' results files.
-void fill_time_errors(std::vector<SweepPoint>& points, double load_rms_fem);
+/// spatial configuration) from the points' results files: RMS difference of
+/// `load_series` (the series the FEM comparison used) over `load_rms_fem`.
+void fill_time_errors(std::vector<SweepPoint>& points, const std::string& load_series, double load_rms_fem);
 
 struct FemCostRow {
   std::string label;           ///< e.g. "Q2-P1, refinement 1"
