@@ -17,7 +17,7 @@ namespace {
 
 std::string loading_of(const Results& r) {
   const std::string test = r.meta.count("test") ? r.meta.at("test") : "";
-  for (const char* t : {"uniaxial", "simple_shear", "static", "vibration", "cooks_membrane"})
+  for (const char* t : {"uniaxial", "simple_shear", "static", "vibration", "cooks_membrane", "indentation"})
     if (test.rfind(t, 0) == 0) return t;
   return "";
 }
@@ -73,6 +73,10 @@ Comparison compare_results(const std::string& msd_file, const std::string& fem_f
     }
     c.units = "m";
     x_name = "load_factor";
+  } else if (c.loading == "indentation") {
+    c.load_series = "indentation_force";
+    c.units = "N";
+    x_name = "depth";
   } else {
     c.load_series = "tip_displacement";
     c.units = "m";

@@ -172,6 +172,29 @@ fem::Problem make_fem_problem(const Spec& spec, const std::string& vtu_directory
     p.probes = {probe};
     p.reaction_faces = {fixed_face};
     p.report_times = report_times(spec);
+  } else if (l.type == "indentation") {
+    // Bonded base; a rigid cylinder touching the top face above its centre,
+    // moved down by depth * path(t); frictionless penalty contact on the top
+    // face with penalty = contact_penalty * E / h_e.
+    fem::Dirichlet base;
+    base.face = 4;
+    p.dirichlet = {base};
+    fem::RigidCylinderContact c;
+    c.radius = l.indenter_radius;
+    c.axis = l.indenter_axis == "x" ? std::array<double, 3>{{1, 0, 0}} : std::array<double, 3>{{0, 1, 0}};
+    c.point = {{0.5 * g.size.x(), 0.5 * g.size.y(), g.size.z() + l.indenter_radius}};
+    c.motion = {{0.0, 0.0, -l.indenter_depth}};
+    c.path = path_of(spec);
+    double h_cell = 1e300;
+    for (int a = 0; a < 3; ++a)
+      h_cell = std::min(h_cell, g.size[a] / p.mesh.cells[static_cast<size_t>(a)]);
+    h_cell /= std::pow(2.0, p.mesh.refinement) * p.degree;
+    const double E = 9 * p.material.kappa * p.material.mu / (3 * p.material.kappa + p.material.mu);
+    c.penalty = f.contact_penalty * E / h_cell;
+    c.faces = {5};
+    p.contacts = {c};
+    p.reaction_faces = {4};
+    p.report_times = report_times(spec);
   } else if (l.type == "vibration") {
     const double L = length_along_z(spec);
     fem::Dirichlet fixed;
@@ -256,6 +279,16 @@ Layout layout_for(const std::string& type) {
              {"reaction_force_z", "N"},
              {"volume_ratio", "1"},
              {"newton_iterations", "1"}}};
+  if (type == "indentation")
+    return {{{"time", "s"},
+             {"depth", "m"},
+             {"indentation_force", "N"},
+             {"base_reaction_z", "N"},
+             {"max_penetration", "m"},
+             {"stored_energy", "J"},
+             {"volume_ratio", "1"},
+             {"newton_iterations", "1"},
+             {"min_jacobian", "1"}}};
   return {{{"time", "s"}, {"tip_displacement", "m"}, {"kinetic_energy", "J"}, {"volume_ratio", "1"}}};
 }
 
@@ -364,6 +397,13 @@ RunSummary run_fem(const Spec& spec, const std::string& out_path, const Progress
       row = {r.time, path.value(r.time), d[0], d[1], d[2], f[0], f[1], f[2], r.volume_ratio,
              static_cast<double>(r.newton_iterations)};
       tip.push_back(d[2]);
+    } else if (type == "indentation") {
+      // The force the cylinder exerts on the body, along the indenting direction -z.
+      const double force = -r.contact_forces[0][2];
+      row = {r.time, spec.loading.indenter_depth * path.value(r.time), force, r.reactions[0][2],
+             r.contact_penetrations[0], r.stored_energy, r.volume_ratio, static_cast<double>(r.newton_iterations), r.min_jacobian};
+      s.min_stress = std::min(s.min_stress, force);
+      s.max_stress = std::max(s.max_stress, force);
     } else if (type == "cooks_membrane") {
       row = {r.time, path.value(r.time), r.probe_displacements[0][1], r.probe_displacements[1][1], r.volume_ratio,
              static_cast<double>(r.newton_iterations)};

@@ -83,7 +83,7 @@ MsdProblem compile_msd(const Spec& spec) {
       path = {{0.0, 0.0}, {0.5 * l.release, 1.0}, {l.release, 1.0}, {l.release * (1 + 1e-9), 0.0}, {l.release + l.duration, 0.0}};
   }
   MsdProblem p{make_sample_mesh(spec), {}, msd::LoadingPath(path, spec.path + ": loading.path"), {}, l.type,
-               {}, {}, {}, 0.0, {}, false, {}};
+               {}, {}, {}, {}, 0.0, {}, false, {}};
   msd::ModelOptions o;
   o.terms = 0;
   for (const auto& t : ms.terms) o.terms |= msd::parse_force_term(t);
@@ -125,6 +125,16 @@ MsdProblem compile_msd(const Spec& spec) {
       o.external_force = msd::face_load(mesh, msd::face_nodes(mesh, msd::parse_face(l.traction_face)), l.traction);
     p.columns = {{"time", "s"}, {"tip_displacement", "m"}, {"kinetic_energy", "J"}, {"volume_ratio", "1"},
                  {"inverted_elements", "1"}};
+  } else if (l.type == "indentation") {
+    msd::IndenterOptions ind;
+    ind.radius = l.indenter_radius;
+    ind.axis = l.indenter_axis == "x" ? 0 : 1;
+    ind.max_depth = l.indenter_depth;
+    ind.response = msd::parse_contact_response(l.indenter_response);
+    p.indenter = msd::add_indenter(mesh, ind, o);
+    p.columns = {{"time", "s"},          {"depth", "m"},           {"indentation_force", "N"},
+                 {"contact_nodes", "1"}, {"base_reaction_z", "N"}, {"volume_ratio", "1"},
+                 {"inverted_elements", "1"}, {"kinetic_energy", "J"}};
   } else {
     throw msd::Error(spec.path + ": loading.type '" + l.type + "' is not supported by the msd solver");
   }
@@ -138,6 +148,9 @@ MsdProblem compile_msd(const Spec& spec) {
       p.initial.x.col(n) = p.model.rest_positions.col(n);
   }
   p.cvode = ms.integrator == "cvode";
+  if (p.cvode && !p.model.obstacles.empty())
+    throw msd::Error(spec.path + ": msd.integrator 'cvode' cannot integrate contact with a rigid obstacle (the thesis' "
+                                 "response is a position projection, not an ODE); use a fixed-step integrator");
   p.stepping.dt = p.cvode ? spec.output.interval : ms.dt;
   p.stepping.integrator = p.cvode ? msd::Integrator::SymplecticEuler : msd::parse_integrator(ms.integrator);
   p.stepping.output_interval = spec.output.interval;
@@ -168,6 +181,14 @@ msd::ExperimentHooks msd_hooks(const MsdProblem& p, const std::function<bool(con
       if (frame) frame(st);
       const msd::ShearSample x = msd::measure_shear(p.model, p.platens, st, sc);
       return row({x.time, x.shear_strain, x.shear_stress, x.normal_stress, x.volume_ratio,
+                  static_cast<double>(x.inverted_elements), x.kinetic_energy});
+    };
+  } else if (p.loading == "indentation") {
+    h.controls = [&p](double t) { return msd::indentation_controls(p.model, p.indenter, p.path, t); };
+    h.sample = [&p, row, frame](const msd::State& st, msd::Scratch& sc) {
+      if (frame) frame(st);
+      const msd::IndentationSample x = msd::measure_indentation(p.model, p.indenter, p.path, st, sc);
+      return row({x.time, x.depth, x.force, static_cast<double>(x.contact_nodes), x.base_reaction, x.volume_ratio,
                   static_cast<double>(x.inverted_elements), x.kinetic_energy});
     };
   } else {
@@ -278,8 +299,12 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
       if (p.columns[k].name == name) return static_cast<int>(k);
     return -1;
   };
-  const int c_strain = column(p.loading == "simple_shear" ? "shear_strain" : "strain");
-  const int c_stress = column(p.loading == "simple_shear" ? "shear_stress" : "nominal_stress");
+  const int c_strain = column(p.loading == "simple_shear" ? "shear_strain"
+                              : p.loading == "indentation" ? "depth"
+                                                           : "strain");
+  const int c_stress = column(p.loading == "simple_shear" ? "shear_stress"
+                              : p.loading == "indentation" ? "indentation_force"
+                                                           : "nominal_stress");
   const int c_volume = column("volume_ratio"), c_inverted = column("inverted_elements");
   std::vector<double> times, tip;
   // /fields: every node's displacement at the field frames.

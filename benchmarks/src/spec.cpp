@@ -218,7 +218,7 @@ unsigned unsigned_field(const Fields& f, const std::string& key, unsigned fallba
 FemSpec parse_fem(const Fields& f) {
   f.only({"formulation", "degree", "refinement", "cells", "linear_solver", "residual_tolerance",
           "increment_tolerance", "max_iterations", "max_cuts", "max_increment", "relative_tolerance",
-          "absolute_tolerance", "rayleigh_mass", "vtu"});
+          "absolute_tolerance", "rayleigh_mass", "contact_penalty", "vtu"});
   FemSpec m;
   m.formulation = f.text_or("formulation", m.formulation);
   one_of(f, "formulation", m.formulation, {"three_field", "displacement"});
@@ -249,6 +249,9 @@ FemSpec parse_fem(const Fields& f) {
   if (m.max_increment < 0.0) throw msd::Error(f.where("max_increment") + "must be >= 0");
   m.rayleigh_mass = f.number_or("rayleigh_mass", 0.0);
   if (m.rayleigh_mass < 0.0) throw msd::Error(f.where("rayleigh_mass") + "must be >= 0 (1/s)");
+  m.contact_penalty = f.number_or("contact_penalty", m.contact_penalty);
+  if (!(m.contact_penalty >= 1.0 && m.contact_penalty <= 1e8))
+    throw msd::Error(f.where("contact_penalty") + "must lie in [1, 1e8] (a multiple of E / h)");
   if (f.has("vtu")) {
     const std::string v = f.text("vtu");
     if (v != "true" && v != "false") throw msd::Error(f.where("vtu") + "expected true or false");
@@ -278,7 +281,7 @@ std::vector<std::pair<double, double>> parse_path(const Fields& f) {
 LoadingSpec parse_loading(const Fields& f) {
   LoadingSpec l;
   l.type = f.text("type");
-  one_of(f, "type", l.type, {"uniaxial", "simple_shear", "cooks_membrane", "vibration", "static"});
+  one_of(f, "type", l.type, {"uniaxial", "simple_shear", "cooks_membrane", "vibration", "static", "indentation"});
   const std::vector<std::string> faces{"left", "right", "front", "back", "bottom", "top"};
   if (l.type == "uniaxial") {
     f.only({"type", "platens", "path", "gravity"});
@@ -308,6 +311,23 @@ LoadingSpec parse_loading(const Fields& f) {
       if (l.traction_face == l.fixed) throw msd::Error(t->where("face") + "the traction face is the fixed face");
     }
     l.path = f.has("path") ? parse_path(f) : std::vector<std::pair<double, double>>{{0.0, 0.0}, {1.0, 1.0}};
+  } else if (l.type == "indentation") {
+    f.only({"type", "indenter", "path"});
+    auto ind = f.section("indenter");
+    ind.only({"shape", "radius", "axis", "depth", "response"});
+    const std::string shape = ind.text_or("shape", "cylinder");
+    one_of(ind, "shape", shape, {"cylinder"});
+    l.indenter_radius = ind.number("radius");
+    positive(ind, "radius", l.indenter_radius, "m");
+    l.indenter_depth = ind.number("depth");
+    positive(ind, "depth", l.indenter_depth, "m");
+    l.indenter_axis = ind.text_or("axis", l.indenter_axis);
+    one_of(ind, "axis", l.indenter_axis, {"x", "y"});
+    l.indenter_response = ind.text_or("response", l.indenter_response);
+    one_of(ind, "response", l.indenter_response, {"stick", "frictionless"});
+    l.path = parse_path(f);
+    for (const auto& [t, v] : l.path)
+      if (!(v >= 0.0 && v <= 1.0)) throw msd::Error(f.where("path") + "depth factors must lie in [0, 1]");
   } else {
     f.only({"type", "initial", "amplitude", "traction", "release", "duration", "gravity"});
     l.initial = f.text_or("initial", l.initial);
@@ -358,6 +378,13 @@ Spec parse_spec(const std::string& text, const std::string& source) {
   if (f.has("msd")) s.msd = parse_msd(f.section("msd"));
   if (f.has("fem")) s.fem = parse_fem(f.section("fem"));
   s.loading = parse_loading(f.section("loading"));
+  if (s.loading.type == "indentation") {
+    const Fields l = f.section("loading");
+    if (s.geometry.shape != "box") throw msd::Error(l.where("type") + "indentation needs a box geometry");
+    if (!(s.loading.indenter_depth < s.geometry.size.z()))
+      throw msd::Error(l.section("indenter").where("depth") + "must be less than the block's height (" +
+                       std::to_string(s.geometry.size.z()) + " m)");
+  }
   if (auto o = f.optional_section("output")) {
     o->only({"interval", "fields_interval"});
     s.output.interval = o->number("interval");

@@ -157,6 +157,9 @@ class Solver {
 
   Summary summary;
   std::vector<Traction> active_tractions;  // the dead surface loads in force now
+  // Contact forces on the body and largest penetrations of the last assembly.
+  std::vector<std::array<double, 3>> contact_force;
+  std::vector<double> contact_penetration;
   double last_min_J = 1.0;
   unsigned newton_since_report = 0, cuts_since_report = 0;
   double next_fields_time = 0.0;
@@ -194,6 +197,14 @@ void Solver::check_problem() const {
       }
   } else if (P.report_times.empty()) {
     throw Error("fem: no report times");
+  }
+  for (const auto& c : P.contacts) {
+    const double an = std::sqrt(c.axis[0] * c.axis[0] + c.axis[1] * c.axis[1] + c.axis[2] * c.axis[2]);
+    if (std::abs(an - 1.0) > 1e-9) throw Error("fem: a contact cylinder's axis must be a unit vector");
+    if (!(c.radius > 0.0)) throw Error("fem: a contact cylinder's radius must be positive");
+    if (!(c.penalty > 0.0)) throw Error("fem: a contact penalty must be positive");
+    for (int f : c.faces)
+      if (f < 0 || f > 6) throw Error("fem: contact face id must be 0..6");
   }
   if (P.dirichlet.empty() && P.pins.empty())
     throw Error("fem: the problem has no Dirichlet condition (rigid motions are free)");
@@ -360,6 +371,10 @@ Solver::Assembled Solver::assemble(const LA::MPI::Vector& u, double t, const Aff
   FEValues<3> fv(mapping, fe, quad,
                  update_values | update_gradients | update_JxW_values | update_quadrature_points);
   FEFaceValues<3> ffv(mapping, fe, face_quad, update_values | update_JxW_values);
+  FEFaceValues<3> contact_fv(mapping, fe, face_quad, update_values | update_JxW_values | update_quadrature_points);
+  std::vector<Tensor<1, 3>> face_u(face_quad.size());
+  contact_force.assign(P.contacts.size(), {{0, 0, 0}});
+  contact_penetration.assign(P.contacts.size(), 0.0);
   FullMatrix<double> Ke(n, n), B, GB;
   Vector<double> f_in(n), f_ex(n), r(n);
   std::vector<double> Jq(nq), JxWq(nq);
@@ -457,6 +472,52 @@ Solver::Assembled Solver::assemble(const LA::MPI::Vector& u, double t, const Aff
           for (unsigned a = 0; a < n; ++a)
             f_ex[a] += it->second[comp[a]] * ffv.shape_value_component(a, q, comp[a]) * ffv.JxW(q);
       }
+    // Penalty contact with rigid cylinders (fem.hpp, RigidCylinderContact):
+    // the traction enters f_int with a minus sign (it depends on u, unlike the
+    // dead loads), its energy the strain energy (the line search's merit).
+    for (size_t k = 0; k < P.contacts.size(); ++k) {
+      const RigidCylinderContact& rc = P.contacts[k];
+      Tensor<1, 3> ax, centre;
+      for (unsigned i = 0; i < 3; ++i) {
+        ax[i] = rc.axis[i];
+        centre[i] = rc.point[i] + rc.motion[i] * rc.path(t);
+      }
+      for (unsigned f = 0; f < cell->n_faces(); ++f) {
+        if (!cell->face(f)->at_boundary()) continue;
+        if (std::find(rc.faces.begin(), rc.faces.end(), static_cast<int>(cell->face(f)->boundary_id())) ==
+            rc.faces.end())
+          continue;
+        contact_fv.reinit(cell, f);
+        contact_fv[disp].get_function_values(u, face_u);
+        for (unsigned q = 0; q < face_quad.size(); ++q) {
+          const Tensor<1, 3> x = contact_fv.quadrature_point(q) + face_u[q];
+          Tensor<1, 3> d = x - centre;
+          d -= (d * ax) * ax;
+          const double rr = d.norm(), g = rc.radius - rr;
+          if (!(g > 0.0) || !(rr > 0.0)) continue;
+          const Tensor<1, 3> nrm = d / rr;
+          const double JxW = contact_fv.JxW(q), eps = rc.penalty;
+          result.strain_energy += 0.5 * eps * g * g * JxW;
+          contact_force[k][0] += eps * g * nrm[0] * JxW;
+          contact_force[k][1] += eps * g * nrm[1] * JxW;
+          contact_force[k][2] += eps * g * nrm[2] * JxW;
+          contact_penetration[k] = std::max(contact_penetration[k], g);
+          for (unsigned a = 0; a < n; ++a) {
+            const double Na = contact_fv.shape_value_component(a, q, comp[a]);
+            if (Na == 0.0) continue;
+            f_in[a] -= eps * g * nrm[comp[a]] * Na * JxW;
+            if (!matrix) continue;
+            for (unsigned bb = 0; bb < n; ++bb) {
+              const double Nb = contact_fv.shape_value_component(bb, q, comp[bb]);
+              if (Nb == 0.0) continue;
+              const unsigned i = comp[a], j = comp[bb];
+              const double tang = (i == j ? 1.0 : 0.0) - ax[i] * ax[j] - nrm[i] * nrm[j];
+              Ke(a, bb) += eps * (nrm[i] * nrm[j] - g / rr * tang) * Na * Nb * JxW;
+            }
+          }
+        }
+      }
+    }
     for (unsigned a = 0; a < n; ++a) r[a] = f_ex[a] - f_in[a];
     if (matrix) c.distribute_local_to_global(Ke, r, ids, K, rhs);
     else c.distribute_local_to_global(r, ids, rhs);
@@ -470,6 +531,10 @@ Solver::Assembled Solver::assemble(const LA::MPI::Vector& u, double t, const Aff
   result.valid = Utilities::MPI::min(result.valid ? 1 : 0, comm) == 1;
   result.min_J = Utilities::MPI::min(result.min_J, comm);
   result.strain_energy = Utilities::MPI::sum(result.strain_energy, comm);
+  for (size_t k = 0; k < P.contacts.size(); ++k) {
+    for (unsigned i = 0; i < 3; ++i) contact_force[k][i] = Utilities::MPI::sum(contact_force[k][i], comm);
+    contact_penetration[k] = Utilities::MPI::max(contact_penetration[k], comm);
+  }
   summary.assembly_seconds += seconds_since(t_start);
   return result;
 }
@@ -850,12 +915,15 @@ Report Solver::measure(double t, const LA::MPI::Vector& u, const LA::MPI::Vector
   u_ghost = u;
   // f_int / f_ext at this state (the Newton loop's last assembly already was,
   // but dynamics and the initial state need it).
-  assemble(u_ghost, t, zero_constraints, false);
+  const Assembled assembled = assemble(u_ghost, t, zero_constraints, false);
   Report r;
+  r.stored_energy = assembled.strain_energy;
   r.time = t;
   r.newton_iterations = newton_since_report;
   r.cuts = cuts_since_report;
   newton_since_report = cuts_since_report = 0;
+  r.contact_forces = contact_force;
+  r.contact_penetrations = contact_penetration;
   for (size_t k = 0; k < face_dofs.size(); ++k) {
     std::array<double, 3> f{{0, 0, 0}};
     for (unsigned c = 0; c < 3; ++c)

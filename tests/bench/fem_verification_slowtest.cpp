@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace {
@@ -164,4 +165,44 @@ TEST(FemVerification, HangingBarSagsAsClosedFormAndCarriesItsWeight) {
   EXPECT_NEAR(sag, rho * g * L * L / (2 * E), 1e-3 * rho * g * L * L / (2 * E));
   const double weight = rho * g * spec.geometry.size.x() * spec.geometry.size.y() * L;
   EXPECT_NEAR(r.series.at("reaction_force_z").back(), weight, 1e-10 * weight);
+}
+
+namespace {
+
+// The indentation benchmark, loading only, on a coarse Q1 mesh.
+bench::Spec small_indentation(double penalty) {
+  bench::Spec spec = shipped("indentation");
+  spec.fem.degree = 1;
+  spec.fem.cells = std::array<unsigned, 3>{{6, 2, 3}};
+  spec.fem.contact_penalty = penalty;
+  spec.loading.path = {{0.0, 0.0}, {1.0, 1.0}};
+  spec.output.interval = 0.05;
+  spec.output.fields_interval = 1.0;
+  return spec;
+}
+
+}  // namespace
+
+TEST(FemVerification, IndentationForceIsTheStoredEnergysDerivativeAndConvergesInThePenalty) {
+  const bench::Results r = run(small_indentation(100.0), "indentation_p100");
+  const auto& d = r.series.at("depth");
+  const auto& F = r.series.at("indentation_force");
+  const auto& E = r.series.at("stored_energy");
+  ASSERT_EQ(d.size(), 21u);
+  // Work done on the body by the cylinder (trapezoid rule) = the energy stored
+  // in it, strain plus penalty: the reported force is the energy's derivative
+  // with respect to the indenter's position.
+  double work = 0.0;
+  for (size_t i = 1; i < d.size(); ++i) work += 0.5 * (F[i] + F[i - 1]) * (d[i] - d[i - 1]);
+  EXPECT_GT(E.back(), 0.0);
+  EXPECT_NEAR(work, E.back(), 0.01 * E.back());
+  // Equilibrium: the bonded base carries what the cylinder pushes.
+  EXPECT_NEAR(r.series.at("base_reaction_z").back(), F.back(), 1e-8 * F.back());
+  // A tenfold penalty moves the force by less than 1 % and cuts the
+  // penetration about tenfold.
+  const bench::Results r10 = run(small_indentation(1000.0), "indentation_p1000");
+  EXPECT_NEAR(r10.series.at("indentation_force").back(), F.back(), 0.01 * F.back());
+  const double ratio = r.series.at("max_penetration").back() / r10.series.at("max_penetration").back();
+  EXPECT_GT(ratio, 5.0);
+  EXPECT_LT(ratio, 20.0);
 }

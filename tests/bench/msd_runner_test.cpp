@@ -69,3 +69,35 @@ TEST(MsdRunner, ObjGeometry) {
   const msd::SampleMesh m = bench::make_sample_mesh(spec);
   EXPECT_GT(m.cubes, 0);
 }
+
+TEST(MsdRunner, IndentationWritesTheForceDepthCurveAndRefusesCvode) {
+  const std::string text = R"(name: ind
+geometry: {shape: box, size: [0.04, 0.01, 0.02]}
+mesh: {spacing: 0.005}
+material: {density: 1000, youngs_modulus: 3000, damping_time: 0.01}
+msd: {constants: physical, terms: [springs, dampers], dt: 2.0e-4}
+loading:
+  type: indentation
+  indenter: {shape: cylinder, radius: 0.01, axis: y, depth: 0.004}
+  path: [[0, 0], [0.5, 1], [1.0, 1]]
+output: {interval: 0.05}
+)";
+  testing_support::TempDir dir("runner");
+  const bench::RunSummary s = bench::run_msd(bench::parse_spec(text, "ind.yaml"), dir.file("ind.h5"));
+  ASSERT_TRUE(s.complete) << s.failure;
+  const bench::Results r = bench::read_results(dir.file("ind.h5"));
+  ASSERT_EQ(r.series.at("depth").size(), 21u);
+  EXPECT_NEAR(r.series.at("depth").back(), 0.004, 1e-15);
+  const double f = r.series.at("indentation_force").back();
+  EXPECT_GT(f, 0.0);
+  EXPECT_GT(r.series.at("contact_nodes").back(), 0.0);
+  EXPECT_NEAR(r.series.at("base_reaction_z").back(), f, 0.02 * f);  // settled after the hold
+  std::string cvode = text;
+  cvode.replace(cvode.find("dt: 2.0e-4"), 10, "integrator: cvode");
+  try {
+    bench::compile_msd(bench::parse_spec(cvode, "ind.yaml"));
+    FAIL() << "cvode with contact was accepted";
+  } catch (const msd::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot integrate contact"), std::string::npos) << e.what();
+  }
+}

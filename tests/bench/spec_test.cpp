@@ -108,3 +108,51 @@ TEST(Spec, ShippedSpecsAllParse) {
     EXPECT_NO_THROW(bench::load_spec(std::string(TISSUEBENCH_SPECS_DIR) + "/" + name)) << name;
   EXPECT_THROW(bench::load_spec("/nonexistent/spec.yaml"), msd::Error);
 }
+
+namespace {
+
+const char* kIndentation = R"(name: ind
+geometry: {shape: box, size: [0.04, 0.01, 0.02]}
+mesh: {spacing: 0.005}
+material: {density: 1000, youngs_modulus: 3000, poisson_ratio: 0.45}
+msd: {constants: physical, dt: 2.0e-4}
+fem: {degree: 1, contact_penalty: 50}
+loading:
+  type: indentation
+  indenter: {shape: cylinder, radius: 0.01, axis: y, depth: 0.004}
+  path: [[0, 0], [0.5, 1]]
+output: {interval: 0.05}
+)";
+
+}  // namespace
+
+TEST(Spec, IndentationFieldsAreReadAndCheckedByName) {
+  const bench::Spec s = bench::parse_spec(kIndentation, "ind.yaml");
+  EXPECT_EQ(s.loading.type, "indentation");
+  EXPECT_DOUBLE_EQ(s.loading.indenter_radius, 0.01);
+  EXPECT_DOUBLE_EQ(s.loading.indenter_depth, 0.004);
+  EXPECT_EQ(s.loading.indenter_axis, "y");
+  EXPECT_EQ(s.loading.indenter_response, "stick");
+  EXPECT_DOUBLE_EQ(s.fem.contact_penalty, 50.0);
+  auto err = [](const std::string& text) {
+    try {
+      bench::parse_spec(text, "ind.yaml");
+    } catch (const msd::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(err(replace(kIndentation, "depth: 0.004", "depth: 0.02")).find("loading.indenter.depth: must be less than"),
+            std::string::npos);
+  EXPECT_NE(err(replace(kIndentation, "radius: 0.01,", "radius: -0.01,")).find("loading.indenter.radius"),
+            std::string::npos);
+  EXPECT_NE(err(replace(kIndentation, "axis: y", "axis: z")).find("loading.indenter.axis"), std::string::npos);
+  EXPECT_NE(err(replace(kIndentation, "depth: 0.004}", "depth: 0.004, response: glue}")).find("loading.indenter.response"),
+            std::string::npos);
+  EXPECT_NE(err(replace(kIndentation, "[0.5, 1]", "[0.5, 1.5]")).find("loading.path: depth factors"), std::string::npos);
+  EXPECT_NE(err(replace(kIndentation, "shape: box, size: [0.04, 0.01, 0.02]", "shape: cylinder, radius: 0.01, height: 0.02"))
+                .find("indentation needs a box"),
+            std::string::npos);
+  EXPECT_NE(err(replace(kIndentation, "contact_penalty: 50", "contact_penalty: 0")).find("fem.contact_penalty"),
+            std::string::npos);
+}

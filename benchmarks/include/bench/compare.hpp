@@ -12,7 +12,7 @@ namespace bench {
 
 struct Comparison {
   std::string spec;
-  std::string loading;          ///< uniaxial | simple_shear | static | vibration
+  std::string loading;          ///< uniaxial | simple_shear | static | vibration | indentation
   std::string load_series;      ///< the compared load curve, e.g. nominal_stress
   std::string units;
   long points = 0;              ///< FEM report times inside the MSD run

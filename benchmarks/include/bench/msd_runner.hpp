@@ -6,6 +6,7 @@
 #include "bench/cvode_integrator.hpp"
 #include "bench/results_file.hpp"
 #include "bench/spec.hpp"
+#include "msd/experiments/indentation.hpp"
 #include "msd/experiments/shear.hpp"
 #include "msd/experiments/static_load.hpp"
 #include "msd/experiments/uniaxial.hpp"
@@ -40,6 +41,7 @@ struct MsdProblem {
   std::string loading;
   msd::UniaxialSetup platens;         ///< uniaxial, simple_shear
   msd::ClampSetup clamp;              ///< static, vibration
+  msd::IndentationSetup indenter;     ///< indentation
   msd::State initial;
   double size = 0.0;                  ///< for the blow-up guard, m
   std::vector<SeriesColumn> columns;  ///< the series this loading writes

@@ -74,11 +74,14 @@ struct FemSpec {
   double relative_tolerance = 1e-6;         ///< dynamics (SUNDIALS IDA)
   double absolute_tolerance = 1e-12;
   double rayleigh_mass = 0.0;               ///< 1/s
+  /// Indentation: contact penalty as a multiple of E / h_e (h_e the element
+  /// size over the degree); the penetration is about pressure / penalty.
+  double contact_penalty = 100.0;
   bool vtu = true;
 };
 
 struct LoadingSpec {
-  /// uniaxial | simple_shear | cooks_membrane | vibration | static
+  /// uniaxial | simple_shear | cooks_membrane | vibration | static | indentation
   std::string type = "uniaxial";
   std::string fixed = "bottom";           ///< static: the clamped face
   std::string traction_face;              ///< static: face carrying `traction` (empty: none)
@@ -95,6 +98,14 @@ struct LoadingSpec {
   double amplitude = 0.0;                 ///< vibration: strain amplitude
   double duration = 0.0;                  ///< vibration: s
   Eigen::Vector3d gravity{Eigen::Vector3d::Zero()};
+  /// indentation: a rigid cylinder along `indenter_axis` (x | y), touching the
+  /// top face above its centre at rest, pressed down by depth * path(t); the
+  /// bottom face is bonded. `indenter_response` is the MSD contact response
+  /// (stick, the thesis' | frictionless); the FEM contact is frictionless.
+  double indenter_radius = 0.0;           ///< m
+  double indenter_depth = 0.0;            ///< m, where path = 1
+  std::string indenter_axis = "y";
+  std::string indenter_response = "stick";
 };
 
 struct OutputSpec {

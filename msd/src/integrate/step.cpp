@@ -74,6 +74,18 @@ void apply_constraints(const Model& model, const Controls& controls, State& stat
           state.v(a, n) = vel[a];
         }
   }
+  for (size_t k = 0; k < model.obstacles.size(); ++k) {
+    const RigidObstacle& ob = model.obstacles[k];
+    const Vec3 off = k < controls.obstacle_offset.size() ? controls.obstacle_offset[k] : Vec3::Zero();
+    const Vec3 vel = k < controls.obstacle_velocity.size() ? controls.obstacle_velocity[k] : Vec3::Zero();
+    for (int n : ob.nodes) {
+      Vec3 x = state.x.col(n), v = state.v.col(n);
+      if (resolve_cylinder_contact(ob.cylinder, ob.response, off, vel, x, v)) {
+        state.x.col(n) = x;
+        state.v.col(n) = v;
+      }
+    }
+  }
 }
 
 void accelerations(const Model& model, const Scratch& scratch, double load_scale, Points& a) {

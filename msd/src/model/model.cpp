@@ -97,6 +97,24 @@ Model build_model(const TetMesh& mesh, const ModelOptions& options) {
     }
   }
   model.groups = options.groups;
+  for (size_t k = 0; k < options.obstacles.size(); ++k) {
+    RigidObstacle ob = options.obstacles[k];
+    const std::string where = "obstacle '" + ob.name + "'";
+    check_cylinder(ob.cylinder, where);
+    if (ob.nodes.empty())
+      for (const Tri& f : boundary_faces(mesh.tets))
+        for (int v : f) ob.nodes.push_back(v);
+    std::sort(ob.nodes.begin(), ob.nodes.end());
+    ob.nodes.erase(std::unique(ob.nodes.begin(), ob.nodes.end()), ob.nodes.end());
+    for (int node : ob.nodes)
+      if (node < 0 || node >= n)
+        throw Error(where + " refers to node " + std::to_string(node) + " of " + std::to_string(n));
+    // Prescribed nodes follow their group, not the obstacle.
+    ob.nodes.erase(std::remove_if(ob.nodes.begin(), ob.nodes.end(),
+                                  [&](int node) { return owner[static_cast<size_t>(node)] >= 0; }),
+                   ob.nodes.end());
+    model.obstacles.push_back(std::move(ob));
+  }
   if (options.external_force.size() > 0) {
     if (options.external_force.cols() != n)
       throw Error("external forces given for " + std::to_string(options.external_force.cols()) + " nodes, the mesh has " +

@@ -101,6 +101,26 @@ struct Pin {
   std::array<bool, 3> mask{{true, true, false}};
 };
 
+/// A rigid circular cylinder of unbounded length pressed against the body:
+/// frictionless penalty contact on the boundary faces `faces`. At a face point
+/// with current position x, the axis at c(t) = point + motion * path(t),
+/// d = (x - c) - ((x - c) . a) a, r = |d|, n = d / r and penetration
+/// g = radius - r, the body receives the nominal traction
+///     t = penalty * max(g, 0) * n            (energy penalty/2 g^2 per area),
+/// linearised consistently:
+///     dt/dx = penalty [ -n n^T + (g / r)(I - a a^T - n n^T) ]   (g > 0).
+/// As penalty grows the solution tends to the exact frictionless one with
+/// penetration ~ contact pressure / penalty.
+struct RigidCylinderContact {
+  std::array<double, 3> point{{0, 0, 0}};   ///< a point of the axis at rest, m
+  std::array<double, 3> axis{{0, 1, 0}};    ///< unit axis direction
+  double radius = 0.0;                      ///< m
+  std::array<double, 3> motion{{0, 0, 0}};  ///< displacement of the cylinder where path = 1, m
+  Path path;
+  double penalty = 0.0;                     ///< Pa/m (traction per penetration)
+  std::vector<int> faces{5};                ///< boundary faces tested
+};
+
 struct NewtonSettings {
   double residual_tolerance = 1e-9;   ///< |R_free| <= tol * force scale
   double increment_tolerance = 1e-9;  ///< |du| <= tol * max(|u|, 1e-3 L)
@@ -132,6 +152,7 @@ struct Problem {
   std::vector<Dirichlet> dirichlet;
   std::vector<Traction> tractions;
   std::vector<Pin> pins;
+  std::vector<RigidCylinderContact> contacts;
   bool plane_strain = false;               ///< u_z = 0 everywhere
   std::array<double, 3> gravity{{0, 0, 0}};
   Path gravity_path;                       ///< scales gravity with the load time (default 1)
@@ -169,6 +190,13 @@ struct Report {
   std::array<double, 6> mean_cauchy{{0, 0, 0, 0, 0, 0}};  ///< volume average, xx yy zz yz xz xy
   double kinetic_energy = 0.0;             ///< dynamics
   double min_jacobian = 1.0;               ///< smallest J at a quadrature point
+  /// Stored energy: the strain energy (with J~ in the volumetric part for
+  /// ThreeField) plus the contact penalty energy, J.
+  double stored_energy = 0.0;
+  /// Per contact: the total force the cylinder exerts on the body (N) and the
+  /// largest penetration at a face quadrature point (m).
+  std::vector<std::array<double, 3>> contact_forces;
+  std::vector<double> contact_penetrations;
 };
 
 /// The deformed boundary surface: topology once, displacements per frame.

@@ -10,7 +10,8 @@
 //      v' = v + dt/2 a,  x+ = x + dt v',  a+ = a(x+, v'),  v+ = v' + dt/2 a+
 //    One force evaluation per step: a+ is kept in the State for the next step.
 // Constrained components of kinematic-group nodes are set to the prescribed
-// position and velocity after each update.
+// position and velocity after each update; then surface nodes that entered a
+// rigid obstacle are moved out of it (msd/contact/rigid_obstacle.hpp).
 #pragma once
 
 #include "msd/model/model.hpp"
@@ -37,7 +38,9 @@ class SimulationFailure : public Error {
   std::string reason;
 };
 
-/// Sets the constrained components of group nodes from `controls`.
+/// Sets the constrained components of group nodes from `controls`, then
+/// resolves the contacts with the model's rigid obstacles at their placement
+/// in `controls`.
 void apply_constraints(const Model& model, const Controls& controls, State& state);
 
 /// Acceleration (f + s f_ext) / m (+ s g when gravity is enabled) from the

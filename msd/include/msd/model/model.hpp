@@ -4,6 +4,7 @@
 // changes every step. Scratch holds buffers reused between steps.
 #pragma once
 
+#include "msd/contact/rigid_obstacle.hpp"
 #include "msd/core/types.hpp"
 #include "msd/material/tissue_material.hpp"
 #include "msd/mesh/tet_mesh.hpp"
@@ -64,6 +65,10 @@ struct Model {
   /// face; scaled by Controls::load_scale. Empty: none.
   Points external_force;
   std::vector<KinematicGroup> groups;
+  /// Rigid objects the surface nodes cannot enter (thesis 5.6), each with the
+  /// nodes it is tested against (none in a kinematic group). Empty: no
+  /// collision work at all.
+  std::vector<RigidObstacle> obstacles;
   std::vector<TissueMaterial> region_materials;  ///< by region label
 
   int num_nodes() const { return static_cast<int>(rest_positions.cols()); }
@@ -78,6 +83,9 @@ struct ModelOptions {
   /// mesh needs one.
   std::vector<TissueMaterial> region_materials;
   std::vector<KinematicGroup> groups;
+  /// Rigid obstacles; an obstacle given without nodes is tested against every
+  /// surface node of the mesh that is in no kinematic group.
+  std::vector<RigidObstacle> obstacles;
   Points external_force;  ///< optional, 3 x N
 };
 
@@ -103,6 +111,10 @@ State rest_state(const Model& model);
 struct Controls {
   std::vector<Vec3> group_offset;
   std::vector<Vec3> group_velocity;
+  /// Rigid motion (translation) of each obstacle from its rest placement, and
+  /// its velocity; empty: obstacles at rest.
+  std::vector<Vec3> obstacle_offset{};
+  std::vector<Vec3> obstacle_velocity{};
   double load_scale = 1.0;
 };
 
