@@ -9,9 +9,9 @@ import json
 import os
 import sys
 
-SPECS = ["uniaxial", "shear", "bending", "bending_gravity", "vibration"]
+SPECS = ["uniaxial", "shear", "bending", "bending_gravity", "vibration", "indentation"]
 ROLE = {"uniaxial": "target", "shear": "target", "bending": "held out", "bending_gravity": "held out",
-        "vibration": "held out"}
+        "vibration": "held out", "indentation": "held out"}
 
 
 def pct(v):

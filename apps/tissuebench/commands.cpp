@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 
 namespace app {
 
@@ -167,6 +168,15 @@ int cmd_sweep(const SweepArgs& args) {
     }
   }
   g.cvode = !args.no_cvode;
+  for (const auto& l : args.fem_levels) {
+    unsigned degree = 0, refinement = 0;
+    char colon = 0;
+    std::istringstream in(l);
+    if (!(in >> degree >> colon >> refinement) || colon != ':' || !in.eof() || degree < 1 || degree > 3 ||
+        refinement > 6)
+      throw msd::Error("--fem-levels: '" + l + "' is not DEGREE:REFINEMENT (degree 1-3, refinement 0-6)");
+    g.fem_levels.emplace_back(degree, refinement);
+  }
   bench::SweepOptions o;
   o.out_dir = args.out;
   o.reference = args.reference;

@@ -51,7 +51,7 @@ int cmd_calibrate(const CalibrateArgs& args);
 struct SweepArgs {
   std::string spec, out = "sweep", reference;
   std::vector<double> spacing, dt;
-  std::vector<std::string> integrators, terms, thresholds;
+  std::vector<std::string> integrators, terms, thresholds, fem_levels;
   double point_timeout = 0.0;
   bool no_cvode = false, quiet = false;
 };

@@ -120,6 +120,10 @@ int main(int argc, char** argv) {
                         "Wall seconds a point may take before it is stopped and marked timeout (0: no limit)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  sweep_cmd->add_option("--fem-levels", sweep.fem_levels,
+                        "FEM runs besides the reference, DEGREE:REFINEMENT on the spec's cells (e.g. 1:0,1:1): "
+                        "their cost and load-curve error against the reference join the table")
+      ->delimiter(',');
   sweep_cmd->add_flag("--quiet", sweep.quiet, "No per-point lines");
 
   app::StabilityArgs stability;

@@ -1,15 +1,16 @@
 #!/usr/bin/env bash
 # Errors of the MSD model against the FEM on the comparison benchmarks, before
 # and after calibration: the calibration targets (uniaxial, shear) and the
-# held-out tests (bending under a tip load and under gravity, vibration).
+# held-out tests (bending under a tip load and under gravity, vibration,
+# indentation).
 # Usage: benchmarks/calibration/compare_calibrations.sh [OUT_DIR]   (after the build)
 # Prints a markdown table (reports/calibration_table.py) of the compare JSONs.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-tb="$root/build/tissuebench"
+tb="${TISSUEBENCH:-$root/build/tissuebench}"   # override: TISSUEBENCH=/path/to/binary
 out="${1:-calibration_comparison}"
 mkdir -p "$out"
-for spec in uniaxial shear bending bending_gravity vibration; do
+for spec in uniaxial shear bending bending_gravity vibration indentation; do
   # Uncalibrated: both solvers (the FEM reference is computed once here).
   if [[ ! -f "$out/uncalibrated/${spec}_compare.json" ]]; then
     "$tb" run "$root/benchmarks/specs/$spec.yaml" --solver both --out "$out/uncalibrated" --quiet

@@ -191,7 +191,7 @@ std::vector<SweepPoint> sweep_points(const Spec& spec, const SweepGrid& g) {
             p.dt = d;
             pts.push_back(p);
           }
-        if (g.cvode) {
+        if (g.cvode && spec.loading.type != "indentation") {  // CVODE cannot integrate contact
           SweepPoint p;
           p.spacing = h;
           p.terms = t;
@@ -277,6 +277,24 @@ void fill_time_errors(std::vector<SweepPoint>& pts, const std::string& load_seri
   }
 }
 
+namespace {
+
+// Cost of one FEM results file: wall seconds per simulated (load) second.
+FemCostRow fem_cost_row(const std::string& file) {
+  const Results f = read_results(file);
+  FemCostRow row;
+  row.results_file = file;
+  row.label = f.meta.count("element") ? f.meta.at("element") : std::string("fem");
+  if (f.timing.count("dofs")) row.dofs = static_cast<unsigned long>(f.timing.at("dofs"));
+  if (f.timing.count("cells")) row.cells = static_cast<unsigned long>(f.timing.at("cells"));
+  if (f.timing.count("wall_seconds")) row.wall_seconds = f.timing.at("wall_seconds");
+  if (f.series.count("time") && !f.series.at("time").empty()) row.simulated_seconds = f.series.at("time").back();
+  if (row.simulated_seconds > 0) row.cost = row.wall_seconds / row.simulated_seconds;
+  return row;
+}
+
+}  // namespace
+
 SweepResult run_sweep(const Spec& spec, const SweepGrid& grid, const SweepOptions& o) {
   const int rank = fem::Session::rank(), size = fem::Session::size();
   std::vector<SweepPoint> pts = sweep_points(spec, grid);
@@ -297,6 +315,22 @@ SweepResult run_sweep(const Spec& spec, const SweepGrid& grid, const SweepOption
     if (o.log && rank == 0 && reused) o.log("  reused (same spec text)");
   } else if (!fs::exists(o.reference)) {
     throw msd::Error(o.reference + ": no such FEM results file");
+  }
+  // The FEM at other accuracy levels (all ranks together; reused when unchanged).
+  std::vector<std::string> level_files;
+  for (const auto& [degree, refinement] : grid.fem_levels) {
+    if (degree < 1 || degree > 3) throw msd::Error("sweep: FEM level degree must be 1, 2 or 3");
+    Spec level = spec;
+    level.fem.degree = degree;
+    level.fem.refinement = refinement;
+    // The spec text is the results file's identity: record the level in it.
+    level.text += "\n# sweep FEM level: degree " + std::to_string(degree) + ", refinement " +
+                  std::to_string(refinement) + "\n";
+    level_files.push_back((dir / (spec.name + "_fem_q" + std::to_string(degree) + "r" + std::to_string(refinement) +
+                                  ".h5")).string());
+    if (o.log && rank == 0) o.log("FEM level Q" + std::to_string(degree) + ", refinement " + std::to_string(refinement) +
+                                  ": " + level_files.back());
+    ensure_fem_reference(level, level_files.back());
   }
   fem::Session::barrier();
 
@@ -387,13 +421,30 @@ SweepResult run_sweep(const Spec& spec, const SweepGrid& grid, const SweepOption
   res.points = std::move(pts);
 
   const Results f = read_results(res.reference_file);
-  res.fem.results_file = res.reference_file;
-  res.fem.label = (f.meta.count("element") ? f.meta.at("element") : std::string("fem"));
-  if (f.timing.count("dofs")) res.fem.dofs = static_cast<unsigned long>(f.timing.at("dofs"));
-  if (f.timing.count("cells")) res.fem.cells = static_cast<unsigned long>(f.timing.at("cells"));
-  if (f.timing.count("wall_seconds")) res.fem.wall_seconds = f.timing.at("wall_seconds");
-  if (f.series.count("time") && !f.series.at("time").empty()) res.fem.simulated_seconds = f.series.at("time").back();
-  if (res.fem.simulated_seconds > 0) res.fem.cost = res.fem.wall_seconds / res.fem.simulated_seconds;
+  res.fem = fem_cost_row(res.reference_file);
+  res.fem.degree = spec.fem.degree;
+  res.fem.refinement = spec.fem.refinement;
+  res.fem.load_rel_rms = 0.0;
+  for (size_t k = 0; k < level_files.size(); ++k) {
+    FemCostRow row = fem_cost_row(level_files[k]);
+    row.degree = grid.fem_levels[k].first;
+    row.refinement = grid.fem_levels[k].second;
+    if (!res.load_series.empty() && f.series.count(res.load_series) && res.load_rms_fem > 0.0) {
+      const Results lv = read_results(level_files[k]);
+      const auto& tf = f.series.at("time");
+      const auto& yf = f.series.at(res.load_series);
+      double sum = 0.0;
+      long n = 0;
+      for (size_t i = 0; i < tf.size(); ++i) {
+        const double y = interpolate(lv.series.at("time"), lv.series.at(res.load_series), tf[i]);
+        if (std::isnan(y)) continue;
+        sum += (y - yf[i]) * (y - yf[i]);
+        ++n;
+      }
+      if (n > 0) row.load_rel_rms = std::sqrt(sum / static_cast<double>(n)) / res.load_rms_fem;
+    }
+    res.fem_levels.push_back(row);
+  }
   return res;
 }
 
@@ -408,7 +459,16 @@ void write_sweep_json(const SweepResult& r, const std::string& path) {
         << ",\n  \"baseline_rss_mb\": " << json_number(r.baseline_rss_mb) << ",\n  \"fem\": {\"label\": "
         << json_string(r.fem.label) << ", \"dofs\": " << r.fem.dofs << ", \"cells\": " << r.fem.cells
         << ", \"wall_seconds\": " << json_number(r.fem.wall_seconds) << ", \"simulated_seconds\": "
-        << json_number(r.fem.simulated_seconds) << ", \"cost\": " << json_number(r.fem.cost) << "},\n  \"points\": [\n";
+        << json_number(r.fem.simulated_seconds) << ", \"cost\": " << json_number(r.fem.cost) << "},\n  \"fem_levels\": [";
+    for (size_t k = 0; k < r.fem_levels.size(); ++k) {
+      const FemCostRow& l = r.fem_levels[k];
+      out << (k ? ",\n    " : "\n    ") << "{\"label\": " << json_string(l.label) << ", \"degree\": " << l.degree
+          << ", \"refinement\": " << l.refinement << ", \"dofs\": " << l.dofs << ", \"cells\": " << l.cells
+          << ", \"wall_seconds\": " << json_number(l.wall_seconds) << ", \"simulated_seconds\": "
+          << json_number(l.simulated_seconds) << ", \"cost\": " << json_number(l.cost)
+          << ", \"load_rel_rms\": " << json_number(l.load_rel_rms) << ", \"file\": " << json_string(l.results_file) << "}";
+    }
+    out << (r.fem_levels.empty() ? "" : "\n  ") << "],\n  \"points\": [\n";
     for (size_t k = 0; k < r.points.size(); ++k) {
       const SweepPoint& p = r.points[k];
       out << "    {\"id\": " << p.id << ", \"spacing\": " << json_number(p.spacing) << ", \"dt\": " << json_number(p.dt)
@@ -480,6 +540,14 @@ std::string format_sweep(const SweepResult& r) {
                 "simulated s)\n",
                 r.fem.label.c_str(), r.fem.cells, r.fem.dofs, r.fem.wall_seconds, r.fem.simulated_seconds, r.fem.cost);
   s << line;
+  for (const auto& l : r.fem_levels) {
+    std::snprintf(line, sizeof line,
+                  "FEM level Q%u, refinement %u (%s): %lu cells, %lu dofs, cost %.3g; load curve %s %% from the "
+                  "reference\n",
+                  l.degree, l.refinement, l.label.c_str(), l.cells, l.dofs, l.cost,
+                  std::isnan(l.load_rel_rms) ? "-" : json_number(100.0 * l.load_rel_rms, 3).c_str());
+    s << line;
+  }
   std::snprintf(line, sizeof line,
                 "cost: wall s per simulated s; +RSS: the run's peak resident memory above the process's before the "
                 "model was built (whole process peaks in the JSON; a tissuebench process that runs nothing: "

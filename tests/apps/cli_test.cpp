@@ -252,9 +252,20 @@ TEST(Cli, SweepRunsTheGridAndMergesOneTable) {
   EXPECT_GT(e5, e1);
   // A second sweep of the same grid keeps the points already run.
   const std::string loud = " --spacing 0.01 --dt 1e-4,5e-4 --integrators symplectic_euler --terms all --thresholds off";
-  const Result again = sh("sweep " + dir.file("s.yaml") + " --out " + dir.file("sw") + loud);
+  // With an FEM level beside the reference: its cost and its load-curve error
+  // against the reference join the table.
+  const Result again = sh("sweep " + dir.file("s.yaml") + " --out " + dir.file("sw") + loud + " --fem-levels 1:1");
   ASSERT_EQ(again.code, 0) << again.output;
   EXPECT_NE(again.output.find("point 2: kept from an earlier run"), std::string::npos) << again.output;
+  EXPECT_NE(again.output.find("FEM level Q1, refinement 1"), std::string::npos) << again.output;
+  const std::string lj = slurp(dir.file("sw/cli_sweep.json"));
+  const auto at = lj.find("\"fem_levels\": [");
+  ASSERT_NE(at, std::string::npos) << lj;
+  const auto err_at = lj.find("\"load_rel_rms\": ", at);
+  ASSERT_NE(err_at, std::string::npos) << lj;
+  const double level_error = std::stod(lj.substr(err_at + 16));
+  EXPECT_GT(level_error, 0.0);   // a finer mesh differs from the reference ...
+  EXPECT_LT(level_error, 0.2);   // ... by a discretisation error, not a different curve
   // A point over its time limit is stopped and marked, not counted on the front.
   const Result slow = sh("sweep " + dir.file("s.yaml") + " --out " + dir.file("slow") + " --reference " +
                          dir.file("sw/cli_fem.h5") + loud + " --no-cvode --point-timeout 0.001 --quiet");
@@ -284,6 +295,10 @@ TEST(Cli, SweepBadGridIsAnErrorBeforeAnythingRuns) {
   const Result r = sh("sweep " + dir.file("s.yaml") + " --out " + dir.file("sw") + " --terms everything");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("everything"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("sw/cli_sweep.json")));
+  const Result level = sh("sweep " + dir.file("s.yaml") + " --out " + dir.file("sw") + " --fem-levels 4:0");
+  EXPECT_EQ(level.code, 2);
+  EXPECT_NE(level.output.find("--fem-levels: '4:0'"), std::string::npos) << level.output;
   EXPECT_FALSE(std::filesystem::exists(dir.file("sw/cli_sweep.json")));
 }
 

@@ -21,6 +21,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace bench {
@@ -33,6 +34,10 @@ struct SweepGrid {
   std::vector<std::string> term_sets;         ///< all | no_repulsion | no_volume | springs_dampers (default: all four)
   std::vector<double> thresholds;             ///< 0 = off; default: off and 0.7
   bool cvode = true;                          ///< add the CVODE point of each spatial configuration
+  /// FEM runs besides the reference, as (degree, refinement) on the spec's
+  /// coarse cells: their cost and their load-curve error against the
+  /// reference go in the same table (the FEM's own speed-accuracy trade).
+  std::vector<std::pair<unsigned, unsigned>> fem_levels;
 };
 
 /// The msd force terms of a named term set.
@@ -84,7 +89,11 @@ void mark_pareto(std::vector<SweepPoint>& points);
 void fill_time_errors(std::vector<SweepPoint>& points, const std::string& load_series, double load_rms_fem);
 
 struct FemCostRow {
-  std::string label;           ///< e.g. "Q2-P1, refinement 1"
+  std::string label;           ///< e.g. "Q2-P1-P1 (condensed)"
+  unsigned degree = 0, refinement = 0;
+  /// Relative RMS difference of the load curve from the reference's (0 for
+  /// the reference itself).
+  double load_rel_rms = std::numeric_limits<double>::quiet_NaN();
   unsigned long dofs = 0, cells = 0;
   double wall_seconds = 0.0, simulated_seconds = 0.0, cost = 0.0;
   double peak_rss_mb = std::numeric_limits<double>::quiet_NaN();
@@ -97,6 +106,7 @@ struct SweepResult {
   double baseline_rss_mb = 0.0;   ///< peak memory of a tissuebench process that runs nothing
   std::vector<SweepPoint> points;
   FemCostRow fem;
+  std::vector<FemCostRow> fem_levels;   ///< SweepGrid::fem_levels, in order
   int ranks = 1;
 };
 
