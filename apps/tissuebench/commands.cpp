@@ -6,6 +6,7 @@
 #include "bench/compare.hpp"
 #include "bench/convergence.hpp"
 #include "bench/fem_runner.hpp"
+#include "bench/guard.hpp"
 #include "bench/msd_runner.hpp"
 #include "bench/results_file.hpp"
 #include "bench/stability.hpp"
@@ -239,6 +240,34 @@ int cmd_compare(const CompareArgs& args) {
     std::printf("comparison: %s\n", args.json.c_str());
   }
   return 0;
+}
+
+int cmd_check(const CheckArgs& args) {
+  if (!root()) return 0;
+  const std::map<std::string, double> metrics = bench::collect_metrics(args.dir);
+  if (args.update) {
+    bench::Baseline old;
+    if (fs::exists(args.baseline)) old = bench::read_baseline(args.baseline);
+    if (!args.tier.empty()) old.tier = args.tier;
+    std::vector<std::string> changes;
+    const bench::Baseline b = bench::updated_baseline(metrics, old, changes);
+    bench::write_baseline(b, args.baseline);
+    std::printf("baseline %s updated from %s: %zu metrics, %zu changes\n", args.baseline.c_str(), args.dir.c_str(),
+                b.metrics.size(), changes.size());
+    for (const auto& c : changes) std::printf("  %s\n", c.c_str());
+    return 0;
+  }
+  const bench::GuardReport r = bench::check_metrics(metrics, bench::read_baseline(args.baseline));
+  for (const auto& n : r.notes) std::printf("  note: %s\n", n.c_str());
+  if (r.ok()) {
+    std::printf("check: all %d baseline metrics hold (%s against %s)\n", r.checked, args.dir.c_str(),
+                args.baseline.c_str());
+    return 0;
+  }
+  std::printf("check: %zu of %d baseline metrics moved beyond their tolerance or are missing (%s against %s):\n",
+              r.failures.size(), r.total, args.dir.c_str(), args.baseline.c_str());
+  for (const auto& f : r.failures) std::printf("  %s\n", f.c_str());
+  return 1;
 }
 
 int cmd_suite(const SuiteArgs& args) {

@@ -65,6 +65,14 @@ struct StabilityArgs {
 };
 int cmd_stability(const StabilityArgs& args);
 
+struct CheckArgs {
+  std::string dir, baseline, tier;
+  bool update = false;
+};
+/// The regression guard: 0 when every baseline metric holds, 1 with the list
+/// of what moved; --update rewrites the baseline and says what changed.
+int cmd_check(const CheckArgs& args);
+
 /// The specs of the default suite (the thesis' three uni-axial experiments).
 std::vector<std::string> default_suite();
 

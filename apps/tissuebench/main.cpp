@@ -142,6 +142,16 @@ int main(int argc, char** argv) {
   stability_cmd->add_flag("--no-extremes", stability.no_extremes, "Skip the extreme loads");
   stability_cmd->add_flag("--quiet", stability.quiet, "No per-trial lines");
 
+  app::CheckArgs check;
+  auto* check_cmd = cli.add_subcommand(
+      "check", "Regression guard: the comparison metrics under DIR against a baseline (exit 1 with what moved)");
+  check_cmd->add_option("dir", check.dir, "Folder of *_compare.json files (a suite's or run --solver both's output)")
+      ->required();
+  check_cmd->add_option("--baseline", check.baseline, "Baseline file (reports/baselines/*.yaml)")->required();
+  check_cmd->add_flag("--update", check.update,
+                      "Rewrite the baseline from DIR (keeping its tolerances) and list what changed");
+  check_cmd->add_option("--tier", check.tier, "Tier name recorded in a baseline written by --update");
+
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -156,6 +166,7 @@ int main(int argc, char** argv) {
     if (*calibrate_cmd) return app::cmd_calibrate(calibrate);
     if (*sweep_cmd) return app::cmd_sweep(sweep);
     if (*stability_cmd) return app::cmd_stability(stability);
+    if (*check_cmd) return app::cmd_check(check);
   } catch (const msd::Error& e) {
     if (fem::Session::rank() == 0) std::cerr << "tissuebench: error: " << e.what() << "\n";
     return 2;

@@ -159,6 +159,15 @@ Comparison compare_results(const std::string& msd_file, const std::string& fem_f
     }
   }
 
+  auto cost = [](const Results& r) {
+    if (!r.timing.count("wall_seconds") || !r.series.count("time") || r.series.at("time").empty())
+      return std::numeric_limits<double>::quiet_NaN();
+    const double sim = r.series.at("time").back();
+    return sim > 0.0 ? r.timing.at("wall_seconds") / sim : std::numeric_limits<double>::quiet_NaN();
+  };
+  c.msd_cost = cost(m);
+  c.fem_cost = cost(f);
+  c.cost_ratio = c.msd_cost / c.fem_cost;
   if (c.loading == "vibration") {
     auto metric = [](const Results& r, const char* k) {
       return r.metrics.count(k) ? r.metrics.at(k) : std::numeric_limits<double>::quiet_NaN();
@@ -194,7 +203,9 @@ void write_comparison_json(const Comparison& c, const std::string& path) {
       << ",\n  \"frequency_fem\": " << json_number(c.frequency_fem) << ",\n  \"frequency_rel_error\": "
       << json_number(c.frequency_rel_error) << ",\n  \"damping_ratio_msd\": " << json_number(c.damping_ratio_msd)
       << ",\n  \"damping_ratio_fem\": " << json_number(c.damping_ratio_fem) << ",\n  \"damping_ratio_abs_error\": "
-      << json_number(c.damping_ratio_abs_error) << "\n}\n";
+      << json_number(c.damping_ratio_abs_error) << ",\n  \"msd_cost\": " << json_number(c.msd_cost)
+      << ",\n  \"fem_cost\": " << json_number(c.fem_cost) << ",\n  \"cost_ratio\": " << json_number(c.cost_ratio)
+      << "\n}\n";
 }
 
 std::string format_comparison(const Comparison& c) {
@@ -223,6 +234,9 @@ std::string format_comparison(const Comparison& c) {
     pct("  relative error", c.frequency_rel_error);
     s << "  damping ratio: msd " << c.damping_ratio_msd << ", fem " << c.damping_ratio_fem << "\n";
   }
+  if (!std::isnan(c.cost_ratio))
+    s << "  cost (wall s per simulated s): msd " << c.msd_cost << ", fem " << c.fem_cost << " (ratio "
+      << c.cost_ratio << ")\n";
   return s.str();
 }
 

@@ -335,3 +335,30 @@ TEST(Cli, CalibrationErrorsNameTheProblem) {
   EXPECT_EQ(c.code, 0) << c.output;
   EXPECT_EQ(bench::read_results(dir.file("o.h5")).meta.at("calibration"), dir.file("c.yaml"));
 }
+
+TEST(Cli, CheckPassesUnchangedAndFailsOnAPerturbedSpringConstant) {
+  testing_support::TempDir dir("cli");
+  std::ofstream(dir.file("s.yaml")) << both_spec();
+  ASSERT_EQ(sh("run " + dir.file("s.yaml") + " --solver both --out " + dir.file("base") + " --quiet").code, 0);
+  // A baseline from the run, then the same run checks clean against it.
+  const Result up = sh("check " + dir.file("base") + " --baseline " + dir.file("b.yaml") + " --update --tier test");
+  ASSERT_EQ(up.code, 0) << up.output;
+  EXPECT_NE(up.output.find("cli.load_rel_rms: added"), std::string::npos) << up.output;
+  const Result same = sh("check " + dir.file("base") + " --baseline " + dir.file("b.yaml"));
+  EXPECT_EQ(same.code, 0) << same.output;
+  EXPECT_NE(same.output.find("baseline metrics hold"), std::string::npos) << same.output;
+  // The regression: springs 30 % stiffer. The guard names the metric, the
+  // value, the baseline and its tolerance.
+  std::ofstream(dir.file("r.yaml")) << replaced(both_spec(), "constants: physical", "constants: physical, stiffness_scale: 1.3");
+  ASSERT_EQ(sh("run " + dir.file("r.yaml") + " --solver msd --out " + dir.file("reg/cli_msd.h5") + " --quiet").code, 0);
+  ASSERT_EQ(sh("compare " + dir.file("reg/cli_msd.h5") + " " + dir.file("base/cli_fem.h5") + " --json " +
+               dir.file("reg/cli_compare.json")).code,
+            0);
+  const Result bad = sh("check " + dir.file("reg") + " --baseline " + dir.file("b.yaml"));
+  EXPECT_EQ(bad.code, 1) << bad.output;
+  EXPECT_NE(bad.output.find("cli.load_rel_rms: "), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("against baseline"), std::string::npos) << bad.output;
+  // Bad input: a missing folder or baseline is an input error (2), not a regression.
+  EXPECT_EQ(sh("check " + dir.file("nowhere") + " --baseline " + dir.file("b.yaml")).code, 2);
+  EXPECT_EQ(sh("check " + dir.file("base") + " --baseline " + dir.file("none.yaml")).code, 2);
+}

@@ -33,6 +33,12 @@ struct Comparison {
   double damping_ratio_msd = std::numeric_limits<double>::quiet_NaN();
   double damping_ratio_fem = std::numeric_limits<double>::quiet_NaN();
   double damping_ratio_abs_error = std::numeric_limits<double>::quiet_NaN();
+  /// Cost of each run (wall s per simulated s, from the files' /timing) and
+  /// their ratio msd / fem - a speed figure both solvers measured on the same
+  /// machine (in the same process for `run --solver both`).
+  double msd_cost = std::numeric_limits<double>::quiet_NaN();
+  double fem_cost = std::numeric_limits<double>::quiet_NaN();
+  double cost_ratio = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Compares two complete results files (msd first). Throws msd::Error when a
