@@ -9,12 +9,20 @@
 #include "bench/guard.hpp"
 #include "bench/msd_runner.hpp"
 #include "bench/results_file.hpp"
+#include "bench/series_tools.hpp"
 #include "bench/stability.hpp"
+#include "bench/suite.hpp"
 #include "bench/sweep.hpp"
 #include "fem/fem.hpp"
 #include "msd/forces/element_forces.hpp"
 
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <memory>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -270,8 +278,10 @@ int cmd_check(const CheckArgs& args) {
   return 1;
 }
 
-int cmd_suite(const SuiteArgs& args) {
-  if (!root()) return 0;
+namespace {
+
+// The thesis' three uni-axial experiments, MSD only (`suite --tier thesis`).
+int thesis_suite(const SuiteArgs& args) {
   const std::string dir = args.specs_dir.empty() ? TISSUEBENCH_SPECS_DIR : args.specs_dir;
   // Read every spec first: a bad one stops the suite before anything runs.
   std::vector<bench::Spec> specs;
@@ -293,6 +303,65 @@ int cmd_suite(const SuiteArgs& args) {
   }
   std::printf("results in %s/ (HDF5 + CSV per spec; layout: benchmarks/RESULTS.md)\n", args.out.c_str());
   return ok ? 0 : 1;
+}
+
+}  // namespace
+
+int cmd_suite(const SuiteArgs& args) {
+  if (args.tier == "thesis") return root() ? thesis_suite(args) : 0;
+  const std::string tier_file = args.tier == "quick" || args.tier == "full"
+                                    ? (fs::path(TISSUEBENCH_SUITES_DIR) / (args.tier + ".yaml")).string()
+                                    : args.tier;
+  if (!fs::exists(tier_file))
+    throw msd::Error("--tier: '" + args.tier + "' is neither quick, full, thesis nor a tier file");
+  const bench::SuiteTier tier = bench::load_tier(tier_file);
+  bench::SuiteOptions o;
+  o.out_dir = args.out;
+  o.specs_dir = args.specs_dir.empty() ? TISSUEBENCH_SPECS_DIR : args.specs_dir;
+  o.calibration_dir = TISSUEBENCH_CALIBRATION_DIR;
+  o.executable = fs::canonical("/proc/self/exe").string();
+  if (!args.quiet && root())
+    o.log = [](const std::string& line) {
+      std::printf("%s\n", line.c_str());
+      std::fflush(stdout);
+    };
+  std::vector<std::unique_ptr<ProgressLine>> lines;
+  o.progress = [&](const std::string& label) -> bench::Progress {
+    lines.push_back(std::make_unique<ProgressLine>(label, !args.quiet && root()));
+    ProgressLine* p = lines.back().get();
+    return [p](double t, double end) { p->update(t, end); };
+  };
+  const int failed = bench::run_suite(tier, o);
+  if (!root()) return 0;
+  // The summary table: every comparison's main errors.
+  std::printf("\nSuite %s: MSD against FEM (relative RMS of the load curve; working range where defined)\n",
+              tier.name.c_str());
+  std::printf("%-22s %-11s %10s %10s %10s %10s\n", "benchmark", "variant", "load %", "work. %", "dV max", "cost x");
+  for (const auto& v : tier.variants)
+    for (const auto& e : fs::directory_iterator(fs::path(args.out) / v)) {
+      const std::string f = e.path().string();
+      if (f.size() < 13 || f.compare(f.size() - 13, 13, "_compare.json") != 0) continue;
+      const YAML::Node j = YAML::LoadFile(f);
+      auto num = [&](const char* k) {
+        return j[k] && !j[k].IsNull() ? j[k].as<double>() : std::numeric_limits<double>::quiet_NaN();
+      };
+      auto cell = [](double x) { return std::isnan(x) ? std::string("-") : bench::json_number(x, 3); };
+      std::printf("%-22s %-11s %10s %10s %10s %10s\n", j["spec"].as<std::string>().c_str(), v.c_str(),
+                  cell(100 * num("load_rel_rms")).c_str(), cell(100 * num("load_rel_rms_working")).c_str(),
+                  cell(num("volume_ratio_max_error")).c_str(), cell(num("cost_ratio")).c_str());
+    }
+  if (failed) std::printf("%d MSD run(s) failed (blow-ups are results: see %s/suite.json)\n", failed, args.out.c_str());
+  if (args.no_report) return 0;
+  const std::string cmd = "/usr/bin/python3 " + (fs::path(TISSUEBENCH_REPORTS_DIR) / "make_report.py").string() +
+                          " '" + args.out + "'";
+  std::fflush(stdout);
+  const int code = std::system(cmd.c_str());
+  if (code != 0) {
+    std::fprintf(stderr, "tissuebench: error: the report failed (%s exited %d); the results are in %s\n", cmd.c_str(),
+                 code, args.out.c_str());
+    return 1;
+  }
+  return 0;
 }
 
 int cmd_converge(const ConvergeArgs& args) {

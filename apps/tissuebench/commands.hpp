@@ -17,7 +17,8 @@ int cmd_run(const RunArgs& args);
 struct SuiteArgs {
   std::string out = "results";
   std::string specs_dir;
-  bool quiet = false;
+  std::string tier = "quick";   ///< quick | full | thesis | a tier file
+  bool quiet = false, no_report = false;
 };
 int cmd_suite(const SuiteArgs& args);
 

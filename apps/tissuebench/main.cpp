@@ -37,9 +37,15 @@ int main(int argc, char** argv) {
 
   app::SuiteArgs suite;
   auto* suite_cmd = cli.add_subcommand(
-      "suite", "Run the standard set (the thesis' three uni-axial experiments) and print a summary");
-  suite_cmd->add_option("--out", suite.out, "Folder for the results files")->capture_default_str();
+      "suite", "The main job: the standard set of comparison benchmarks (FEM and MSD variants), sweep, stability "
+               "and FEM verification, then the report (DIR/report/index.html, summary.md)");
+  suite_cmd->add_option("--tier", suite.tier,
+                        "quick (a few minutes), full, thesis (the thesis' three uni-axial experiments, MSD only) or "
+                        "a tier file")
+      ->capture_default_str();
+  suite_cmd->add_option("--out", suite.out, "Folder for the results files and the report")->capture_default_str();
   suite_cmd->add_option("--specs", suite.specs_dir, "Folder holding the specs (default: the built-in ones)");
+  suite_cmd->add_flag("--no-report", suite.no_report, "Skip the HTML/Markdown report");
   suite_cmd->add_flag("--quiet", suite.quiet, "No progress lines");
 
   app::InspectArgs inspect;

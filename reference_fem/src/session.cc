@@ -2,6 +2,7 @@
 // Trilinos' needs); one thread per process so timings are comparable.
 #include "fem/fem.hpp"
 
+#include <deal.II/base/config.h>
 #include <deal.II/base/mpi.h>
 
 #include <memory>
@@ -22,6 +23,8 @@ Session::~Session() { g_mpi.reset(); }
 int Session::rank() { return static_cast<int>(dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD)); }
 int Session::size() { return static_cast<int>(dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD)); }
 void Session::barrier() { MPI_Barrier(MPI_COMM_WORLD); }
+
+std::string library_version() { return DEAL_II_PACKAGE_VERSION; }
 
 NeoHookean neo_hookean_from(double E, double nu, double density) {
   if (!(E > 0.0)) throw Error("material: Young's modulus must be positive");

@@ -39,6 +39,9 @@ class Session {
   static void barrier();
 };
 
+/// The deal.II version the solver was built with (e.g. "9.4.1").
+std::string library_version();
+
 /// Bad input or a solve that cannot go on; the message names what and when.
 class Error : public std::runtime_error {
  public:

@@ -1,0 +1,83 @@
+// The standard set ("the main job"): every comparison benchmark of a tier run
+// by the FEM reference and by the MSD model in several variants - the thesis'
+// raw constants, our physical (uncalibrated) constants, and the shipped
+// calibration of the material - each compared with the FEM; a small
+// speed-accuracy sweep with the FEM's own levels; the stability extremes; and
+// the FEM verification status (closed forms, a published benchmark, a
+// refinement study). Tiers are YAML files (benchmarks/suites/TIER.yaml, fields
+// in benchmarks/suites/README.md). Everything lands in one folder with a
+// manifest, DIR/suite.json, that the report (reports/make_report.py) and the
+// regression guard (`tissuebench check`) read.
+#pragma once
+
+#include "bench/msd_runner.hpp"
+#include "bench/spec.hpp"
+
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace bench {
+
+/// MSD variants the suite can run.
+///  - thesis: raw constants of the thesis' element (k_s 10.75 N/m, k_d 0.2 N s/m,
+///    k_r 3 N/m, k_v 50 N/m), equal mass lumping, explicit Euler, all terms on;
+///  - physical: the spec as shipped (constants from E and h);
+///  - calibrated: the spec with benchmarks/calibration/MATERIAL.yaml.
+Spec suite_variant(const Spec& spec, const std::string& variant, const std::string& calibration_dir);
+
+struct SuiteTier {
+  std::string name, description, file;
+  std::vector<std::string> variants;
+  struct Benchmark {
+    std::string spec;          ///< file, relative to the specs folder
+    std::string edit_yaml;     ///< YAML merged into the spec (quick-tier resolution), "" = none
+  };
+  std::vector<Benchmark> benchmarks;
+  struct Sweep {
+    std::string spec;
+    std::vector<double> spacing, dt;
+    std::vector<std::string> integrators, terms;
+    std::vector<double> thresholds;  ///< 0 = off
+    std::vector<std::pair<unsigned, unsigned>> fem_levels;
+    double point_timeout = 0.0;
+  };
+  std::vector<Sweep> sweeps;
+  struct Stability {
+    std::string spec;
+    std::vector<std::string> integrators, terms;
+    bool dt_search = false, extremes = true;
+  };
+  std::vector<Stability> stability;
+  std::vector<std::string> verification;  ///< verify_*.yaml specs with closed forms / published values
+  struct Convergence {
+    std::string spec;
+    std::vector<int> levels;
+    unsigned degree = 1;
+    std::string edit_yaml;
+  };
+  std::vector<Convergence> convergence;
+};
+
+/// Reads a tier file; errors name the file and field.
+SuiteTier load_tier(const std::string& path);
+
+struct SuiteOptions {
+  std::string out_dir;
+  std::string specs_dir;         ///< where tier specs are looked up
+  std::string calibration_dir;   ///< benchmarks/calibration
+  std::string executable;        ///< tissuebench, for the sweep's child runs
+  std::function<void(const std::string&)> log;
+  std::function<Progress(const std::string& label)> progress;  ///< a progress callback per run
+};
+
+/// Runs the tier; writes DIR/suite.json (and everything it lists). Returns the
+/// number of MSD runs that failed (blow-ups are results, not errors). Throws
+/// msd::Error on bad input before anything runs, or when an FEM reference fails.
+int run_suite(const SuiteTier& tier, const SuiteOptions& options);
+
+/// The machine and tool versions recorded as provenance (JSON object text).
+std::string provenance_json();
+
+}  // namespace bench

@@ -1,0 +1,444 @@
+#include "bench/suite.hpp"
+
+#include "bench/calibration.hpp"
+#include "bench/closed_form.hpp"
+#include "bench/compare.hpp"
+#include "bench/convergence.hpp"
+#include "bench/fem_runner.hpp"
+#include "bench/msd_runner.hpp"
+#include "bench/results_file.hpp"
+#include "bench/series_tools.hpp"
+#include "bench/sha256.hpp"
+#include "bench/stability.hpp"
+#include "bench/sweep.hpp"
+#include "bench/yaml_fields.hpp"
+#include "fem/fem.hpp"
+
+#include <Eigen/Core>
+#include <H5public.h>
+#include <sundials/sundials_config.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+namespace bench {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Recursively merges `edit` into `base`: maps key by key, anything else replaced.
+void merge(YAML::Node base, const YAML::Node& edit) {
+  for (const auto& kv : edit) {
+    const std::string key = kv.first.as<std::string>();
+    if (kv.second.IsMap() && base[key] && base[key].IsMap()) merge(base[key], kv.second);
+    else base[key] = kv.second;
+  }
+}
+
+std::string utc_now() {
+  const std::time_t t = std::time(nullptr);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return buf;
+}
+
+// The value of the first line starting with `key` in a "key: value" or
+// key="value" file (/proc/cpuinfo, /etc/os-release).
+std::string first_line_with(const std::string& file, const std::string& key) {
+  std::ifstream in(file);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(key, 0) == 0) {
+      std::string v = line.substr(key.size());
+      v.erase(0, v.find_first_not_of(" \t:=\""));
+      while (!v.empty() && (v.back() == '"' || v.back() == ' ')) v.pop_back();
+      return v;
+    }
+  return "unknown";
+}
+
+std::string memory_gb() {
+  std::istringstream in(first_line_with("/proc/meminfo", "MemTotal"));
+  double kb = 0.0;
+  return (in >> kb) ? json_number(kb / 1048576.0, 3) + " GB" : "unknown";
+}
+
+std::vector<std::string> string_list(const Fields& f, const std::string& key) {
+  return f.has(key) ? f.text_list(key) : std::vector<std::string>{};
+}
+
+std::string edit_text(const Fields& f) {
+  if (!f.has("edit")) return "";
+  YAML::Emitter e;
+  e << f.node()["edit"];
+  return e.c_str();
+}
+
+}  // namespace
+
+Spec suite_variant(const Spec& spec, const std::string& variant, const std::string& calibration_dir) {
+  if (variant == "physical") return spec;
+  if (!spec.msd) throw msd::Error(spec.path + ": the suite's msd variants need an msd section");
+  if (variant == "thesis") {
+    const double dt = spec.msd->integrator == "cvode" ? spec.output.interval / 100.0 : spec.msd->dt;
+    return spec_variant(spec, [&](YAML::Node& n) {
+      YAML::Node m;
+      m["constants"] = "raw";
+      m["k_s"] = 10.75;  // N/m, thesis 5.2.1
+      m["k_d"] = 0.2;    // N s/m, thesis 5.2.1
+      m["k_r"] = 3.0;    // N/m, our choice (the thesis gives none)
+      m["k_v"] = 50.0;   // N/m, our choice
+      m["mass_lumping"] = "equal";
+      m["terms"] = std::vector<std::string>{"springs", "dampers", "repulsion", "volume"};
+      m["nonlinear_threshold"] = "off";
+      m["integrator"] = "explicit_euler";
+      m["dt"] = dt;
+      n["msd"] = m;
+    });
+  }
+  if (variant == "calibrated") {
+    const YAML::Node root = YAML::Load(spec.text);
+    if (!root["material"] || !root["material"]["library"])
+      throw msd::Error(spec.path + ": the calibrated variant needs a material from the library (material.library)");
+    const std::string file =
+        (fs::absolute(calibration_dir) / (root["material"]["library"].as<std::string>() + ".yaml")).string();
+    if (!fs::exists(file)) throw msd::Error(spec.path + ": no calibration " + file + " for its material");
+    return spec_variant(spec, [&](YAML::Node& n) {
+      for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "calibration"}) n["msd"].remove(k);
+      n["msd"]["calibration"] = file;
+    });
+  }
+  throw msd::Error("suite: unknown variant '" + variant + "' (thesis, physical, calibrated)");
+}
+
+SuiteTier load_tier(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw msd::Error(path + ": cannot read the tier file");
+  } catch (const YAML::Exception& e) {
+    throw msd::Error(path + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+  }
+  const Fields f(root, "", path);
+  f.only({"tier", "description", "variants", "benchmarks", "sweeps", "stability", "verification", "convergence"});
+  SuiteTier t;
+  t.file = path;
+  t.name = f.text("tier");
+  t.description = f.text_or("description", "");
+  t.variants = f.has("variants") ? f.text_list("variants") : std::vector<std::string>{"physical"};
+  for (const auto& v : t.variants)
+    if (v != "thesis" && v != "physical" && v != "calibrated")
+      throw msd::Error(f.where("variants") + "unknown variant '" + v + "' (thesis, physical, calibrated)");
+  auto items = [&](const std::string& key, const std::function<void(const Fields&)>& each) {
+    const YAML::Node list = root[key];
+    if (!list) return;
+    if (!list.IsSequence()) throw msd::Error(f.where(key) + "expected a list");
+    for (size_t i = 0; i < list.size(); ++i) {
+      if (!list[i].IsMap()) throw msd::Error(f.where(key) + "item " + std::to_string(i) + " must be a mapping");
+      each(Fields(list[i], key + "[" + std::to_string(i) + "]", path));
+    }
+  };
+  items("benchmarks", [&](const Fields& b) {
+    b.only({"spec", "edit"});
+    t.benchmarks.push_back({b.text("spec"), edit_text(b)});
+  });
+  items("sweeps", [&](const Fields& s) {
+    s.only({"spec", "spacing", "dt", "integrators", "terms", "thresholds", "fem_levels", "point_timeout"});
+    SuiteTier::Sweep w;
+    w.spec = s.text("spec");
+    if (s.has("spacing")) w.spacing = s.number_list("spacing");
+    if (s.has("dt")) w.dt = s.number_list("dt");
+    w.integrators = string_list(s, "integrators");
+    w.terms = string_list(s, "terms");
+    for (const auto& th : string_list(s, "thresholds")) w.thresholds.push_back(th == "off" ? 0.0 : std::stod(th));
+    for (const auto& l : string_list(s, "fem_levels")) {
+      const auto colon = l.find(':');
+      if (colon == std::string::npos) throw msd::Error(s.where("fem_levels") + "'" + l + "' is not DEGREE:REFINEMENT");
+      w.fem_levels.emplace_back(std::stoul(l.substr(0, colon)), std::stoul(l.substr(colon + 1)));
+    }
+    w.point_timeout = s.number_or("point_timeout", 0.0);
+    t.sweeps.push_back(w);
+  });
+  items("stability", [&](const Fields& s) {
+    s.only({"spec", "integrators", "terms", "dt_search", "extremes"});
+    SuiteTier::Stability st;
+    st.spec = s.text("spec");
+    st.integrators = string_list(s, "integrators");
+    st.terms = string_list(s, "terms");
+    st.dt_search = s.text_or("dt_search", "false") == "true";
+    st.extremes = s.text_or("extremes", "true") == "true";
+    t.stability.push_back(st);
+  });
+  if (f.has("verification")) t.verification = f.text_list("verification");
+  items("convergence", [&](const Fields& c) {
+    c.only({"spec", "levels", "degree", "edit"});
+    SuiteTier::Convergence cv;
+    cv.spec = c.text("spec");
+    for (double l : c.number_list("levels")) cv.levels.push_back(static_cast<int>(l));
+    cv.degree = static_cast<unsigned>(c.integer_or("degree", 1));
+    cv.edit_yaml = edit_text(c);
+    t.convergence.push_back(cv);
+  });
+  if (t.benchmarks.empty()) throw msd::Error(f.where("benchmarks") + "the tier lists no benchmarks");
+  return t;
+}
+
+std::string provenance_json() {
+  std::ostringstream s;
+  s << "{\"cpu\": " << json_string(first_line_with("/proc/cpuinfo", "model name"))
+    << ", \"cores\": " << std::thread::hardware_concurrency()
+    << ", \"memory\": " << json_string(memory_gb())
+    << ", \"os\": " << json_string(first_line_with("/etc/os-release", "PRETTY_NAME"))
+    << ", \"compiler\": " << json_string(std::string("gcc ") + __VERSION__)
+    << ", \"eigen\": \"" << EIGEN_WORLD_VERSION << "." << EIGEN_MAJOR_VERSION << "." << EIGEN_MINOR_VERSION << "\""
+    << ", \"hdf5\": \"" << H5_VERS_MAJOR << "." << H5_VERS_MINOR << "." << H5_VERS_RELEASE << "\""
+    << ", \"sundials\": " << json_string(SUNDIALS_VERSION) << ", \"deal_ii\": " << json_string(fem::library_version())
+    << ", \"tissuebench\": " << json_string(tissuebench_version()) << ", \"git_revision\": " << json_string(git_revision())
+    << "}";
+  return s.str();
+}
+
+namespace {
+
+struct VerificationRow {
+  std::string name, quantity, source;
+  double value = 0.0, reference = 0.0, rel_error = 0.0;
+};
+
+// Runs one verify_*.yaml and measures it against its closed form or published value.
+VerificationRow verify(const Spec& spec, const std::string& file) {
+  const RunSummary s = run_fem(spec, file);
+  if (!s.complete) throw msd::Error(spec.path + ": the verification run failed: " + s.failure);
+  const Results r = read_results(file);
+  const fem::NeoHookean m = fem_material(spec);
+  VerificationRow v;
+  v.name = spec.name;
+  const std::string& t = spec.loading.type;
+  if (t == "uniaxial") {
+    v.quantity = "nominal stress (max error over the path / max stress)";
+    v.source = "closed form, homogeneous uni-axial stress";
+    double err = 0.0, scale = 0.0;
+    const auto& e = r.series.at("strain");
+    for (size_t i = 0; i < e.size(); ++i) {
+      const double c = neo_hookean_uniaxial(m.mu, m.kappa, e[i]).nominal_stress;
+      err = std::max(err, std::abs(r.series.at("nominal_stress")[i] - c));
+      scale = std::max(scale, std::abs(c));
+    }
+    v.value = err;
+    v.reference = scale;
+    v.rel_error = err / scale;
+  } else if (t == "simple_shear") {
+    v.quantity = "shear stress (max error / max stress)";
+    v.source = "closed form, sigma_xz = mu gamma";
+    double err = 0.0, scale = 0.0;
+    const auto& g = r.series.at("shear_strain");
+    for (size_t i = 0; i < g.size(); ++i) {
+      const double c = neo_hookean_simple_shear(m.mu, g[i])[0];
+      err = std::max(err, std::abs(r.series.at("shear_stress")[i] - c));
+      scale = std::max(scale, std::abs(c));
+    }
+    v.value = err;
+    v.reference = scale;
+    v.rel_error = err / scale;
+  } else if (t == "static") {
+    v.quantity = "self-weight sag of the free end, m";
+    v.source = "closed form, rho g L^2 / 2E (small strain)";
+    const double E = 9 * m.kappa * m.mu / (3 * m.kappa + m.mu), L = spec.geometry.size.z();
+    v.value = -r.series.at("tip_displacement_z").back();
+    v.reference = m.density * 9.81 * L * L / (2 * E);
+    v.rel_error = (v.value - v.reference) / v.reference;
+  } else if (t == "cooks_membrane") {
+    v.quantity = "vertical displacement of the loaded edge's mid-point (48, 52) mm, m";
+    v.source = "Pelteret & McBride 2016 (deal.II code gallery): converged 14.74 mm";
+    v.value = r.series.at("mid_edge_displacement").back();
+    v.reference = 14.74e-3;
+    v.rel_error = (v.value - v.reference) / v.reference;
+  } else if (t == "vibration") {
+    v.quantity = "first axial frequency, Hz";
+    v.source = "closed form, sqrt(E / rho) / 4L";
+    v.value = r.metrics.at("first_frequency");
+    const double E = 9 * m.kappa * m.mu / (3 * m.kappa + m.mu);
+    v.reference = bar_first_frequency(E, m.density, spec.geometry.size.z());
+    v.rel_error = (v.value - v.reference) / v.reference;
+  } else {
+    throw msd::Error(spec.path + ": no closed form for loading '" + t + "' in the suite's verification");
+  }
+  return v;
+}
+
+Spec edited(const Spec& spec, const std::string& edit_yaml) {
+  if (edit_yaml.empty()) return spec;
+  const YAML::Node e = YAML::Load(edit_yaml);
+  return spec_variant(spec, [&](YAML::Node& n) { merge(n, e); });
+}
+
+}  // namespace
+
+int run_suite(const SuiteTier& tier, const SuiteOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  auto log = [&](const std::string& s) {
+    if (o.log) o.log(s);
+  };
+  auto progress = [&](const std::string& label) { return o.progress ? o.progress(label) : Progress{}; };
+  const fs::path dir = o.out_dir;
+  // Specs are looked up beside the tier file first, then in the specs folder.
+  auto spec_file = [&](const std::string& name) {
+    const fs::path beside = fs::path(tier.file).parent_path() / name;
+    return fs::exists(beside) ? beside.string() : (fs::path(o.specs_dir) / name).string();
+  };
+
+  // Every spec and variant is read first: bad input stops the suite before any run.
+  struct Job {
+    Spec fem;
+    std::vector<std::pair<std::string, Spec>> variants;
+  };
+  std::vector<Job> jobs;
+  for (const auto& b : tier.benchmarks) {
+    Job j{edited(load_spec(spec_file(b.spec)), b.edit_yaml), {}};
+    for (const auto& v : tier.variants) j.variants.emplace_back(v, suite_variant(j.fem, v, o.calibration_dir));
+    jobs.push_back(std::move(j));
+  }
+  std::vector<Spec> sweep_specs, stability_specs, verification_specs, convergence_specs;
+  for (const auto& s : tier.sweeps) sweep_specs.push_back(load_spec(spec_file(s.spec)));
+  for (const auto& s : tier.stability) stability_specs.push_back(load_spec(spec_file(s.spec)));
+  for (const auto& s : tier.verification) verification_specs.push_back(load_spec(spec_file(s)));
+  for (const auto& c : tier.convergence) convergence_specs.push_back(edited(load_spec(spec_file(c.spec)), c.edit_yaml));
+  fs::create_directories(dir);
+
+  std::ostringstream bj;  // the benchmarks' part of the manifest
+  int failed = 0;
+  std::map<std::string, std::string> fem_of_text;  // spec text -> FEM file (reused by the sweeps)
+  for (size_t k = 0; k < jobs.size(); ++k) {
+    const Job& j = jobs[k];
+    const std::string fem_file = (dir / "fem" / (j.fem.name + "_fem.h5")).string();
+    log("[" + j.fem.name + "] FEM reference");
+    const bool reused = ensure_fem_reference(j.fem, fem_file, progress(j.fem.name + " (fem)"));
+    if (reused) log("  reused " + fem_file + " (same spec text)");
+    fem_of_text[j.fem.text] = fem_file;
+    bj << (k ? ",\n" : "") << "    {\"name\": " << json_string(j.fem.name) << ", \"spec\": " << json_string(j.fem.path)
+       << ", \"spec_sha256\": " << json_string(sha256_hex(j.fem.text)) << ", \"loading\": "
+       << json_string(j.fem.loading.type) << ", \"description\": " << json_string(j.fem.description)
+       << ", \"fem_file\": " << json_string(fs::relative(fem_file, dir).string()) << ", \"variants\": [";
+    for (size_t v = 0; v < j.variants.size(); ++v) {
+      const auto& [variant, spec] = j.variants[v];
+      const fs::path vdir = dir / variant;
+      const std::string msd_file = (vdir / (spec.name + "_msd.h5")).string();
+      const std::string cmp_file = (vdir / (spec.name + "_compare.json")).string();
+      log("[" + j.fem.name + "] MSD, " + variant);
+      fs::remove(cmp_file);
+      const RunSummary s = run_msd(spec, msd_file, progress(spec.name + " (msd, " + variant + ")"));
+      bj << (v ? ", " : "") << "{\"variant\": " << json_string(variant) << ", \"spec_sha256\": "
+         << json_string(sha256_hex(spec.text)) << ", \"msd_file\": " << json_string(fs::relative(msd_file, dir).string())
+         << ", \"status\": " << json_string(s.complete ? "complete" : "failed") << ", \"failure\": "
+         << json_string(s.failure) << ", \"wall_seconds\": " << json_number(s.wall_seconds);
+      if (s.complete) {
+        const Comparison c = compare_results(msd_file, fem_file);
+        write_comparison_json(c, cmp_file);
+        bj << ", \"compare_file\": " << json_string(fs::relative(cmp_file, dir).string());
+        log("  " + c.load_series + " relative RMS error " + json_number(100.0 * c.load_rel_rms, 3) + " %");
+      } else {
+        ++failed;
+        log("  failed: " + s.failure);
+      }
+      bj << "}";
+    }
+    bj << "]}";
+  }
+
+  std::ostringstream sj;
+  for (size_t k = 0; k < tier.sweeps.size(); ++k) {
+    const auto& w = tier.sweeps[k];
+    SweepGrid g;
+    g.spacing = w.spacing;
+    g.dt = w.dt;
+    g.integrators = w.integrators;
+    g.term_sets = w.terms;
+    g.thresholds = w.thresholds;
+    g.fem_levels = w.fem_levels;
+    SweepOptions so;
+    so.out_dir = (dir / "sweep").string();
+    so.executable = o.executable;
+    so.point_timeout = w.point_timeout;
+    if (fem_of_text.count(sweep_specs[k].text)) so.reference = fem_of_text.at(sweep_specs[k].text);
+    log("[sweep " + sweep_specs[k].name + "]");
+    const SweepResult r = run_sweep(sweep_specs[k], g, so);
+    const std::string json = (dir / "sweep" / (sweep_specs[k].name + "_sweep.json")).string();
+    write_sweep_json(r, json);
+    write_sweep_csv(r, (dir / "sweep" / (sweep_specs[k].name + "_sweep.csv")).string());
+    sj << (k ? ", " : "") << json_string(fs::relative(json, dir).string());
+  }
+
+  std::ostringstream tj;
+  for (size_t k = 0; k < tier.stability.size(); ++k) {
+    const auto& st = tier.stability[k];
+    const Spec& spec = stability_specs[k];
+    log("[stability " + spec.name + "]");
+    std::vector<DtSearch> searches;
+    std::vector<ExtremeRow> extremes;
+    if (st.dt_search)
+      for (const auto& i : st.integrators)
+        for (const auto& t : st.terms) searches.push_back(search_dt(spec, i, t, {}, {}));
+    if (st.extremes) extremes = run_extremes(spec, st.terms, {});
+    fs::create_directories(dir / "stability");
+    const std::string json = (dir / "stability" / (spec.name + "_stability.json")).string();
+    write_stability_json(spec.name, searches, extremes, json);
+    tj << (k ? ", " : "") << json_string(fs::relative(json, dir).string());
+  }
+
+  std::ostringstream vj;
+  for (size_t k = 0; k < verification_specs.size(); ++k) {
+    const Spec& spec = verification_specs[k];
+    log("[verification " + spec.name + "]");
+    const VerificationRow v = verify(spec, (dir / "verification" / (spec.name + "_fem.h5")).string());
+    log("  " + v.quantity + ": " + json_number(v.value, 5) + " (reference " + json_number(v.reference, 5) +
+        ", relative error " + json_number(v.rel_error, 3) + ")");
+    vj << (k ? ",\n" : "") << "    {\"name\": " << json_string(v.name) << ", \"quantity\": " << json_string(v.quantity)
+       << ", \"source\": " << json_string(v.source) << ", \"value\": " << json_number(v.value)
+       << ", \"reference\": " << json_number(v.reference) << ", \"rel_error\": " << json_number(v.rel_error) << "}";
+  }
+
+  std::ostringstream cj;
+  for (size_t k = 0; k < tier.convergence.size(); ++k) {
+    const auto& cv = tier.convergence[k];
+    const Spec& spec = convergence_specs[k];
+    log("[convergence " + spec.name + "]");
+    const fs::path cdir = dir / "convergence";
+    fs::create_directories(cdir);
+    const ConvergenceStudy st = run_convergence(spec, cv.levels, cv.degree, cdir.string());
+    const std::string json = (cdir / (spec.name + "_convergence.json")).string();
+    write_convergence_json(st, json);
+    log("  observed order " + json_number(st.observed_order, 3) + ", estimated finest-level error " +
+        json_number(100.0 * st.finest_relative_error, 3) + " %");
+    cj << (k ? ", " : "") << json_string(fs::relative(json, dir).string());
+  }
+
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::string manifest = (dir / "suite.json").string();
+  {
+    std::ofstream m(manifest + ".tmp");
+    m << "{\n  \"tier\": " << json_string(tier.name) << ",\n  \"description\": " << json_string(tier.description)
+      << ",\n  \"tier_file\": " << json_string(tier.file) << ",\n  \"created\": " << json_string(utc_now())
+      << ",\n  \"wall_seconds\": " << json_number(wall, 5) << ",\n  \"provenance\": " << provenance_json()
+      << ",\n  \"variants\": [";
+    for (size_t v = 0; v < tier.variants.size(); ++v) m << (v ? ", " : "") << json_string(tier.variants[v]);
+    m << "],\n  \"benchmarks\": [\n" << bj.str() << "\n  ],\n  \"sweeps\": [" << sj.str() << "],\n  \"stability\": ["
+      << tj.str() << "],\n  \"verification\": [\n" << vj.str() << "\n  ],\n  \"convergence\": [" << cj.str()
+      << "],\n  \"failed_runs\": " << failed << "\n}\n";
+    if (!m) throw msd::Error(manifest + ": cannot write");
+  }
+  fs::rename(manifest + ".tmp", manifest);
+  log("suite " + tier.name + ": " + json_number(wall, 4) + " s; manifest " + manifest);
+  return failed;
+}
+
+}  // namespace bench

@@ -1,0 +1,206 @@
+#!/usr/bin/python3
+"""The accuracy report of a suite run: DIR/report/index.html (self-contained:
+every figure embedded as a PNG data URI) and DIR/report/summary.md.
+
+Usage: /usr/bin/python3 reports/make_report.py DIR      (DIR: `tissuebench suite --out DIR`)
+
+Reads DIR/suite.json (the manifest) and the files it lists: the HDF5 results
+of the FEM reference and the MSD variants of each benchmark, their comparison
+JSONs, the sweep, stability, verification and convergence outputs (layouts in
+benchmarks/RESULTS.md). Needs Debian's python3-matplotlib, python3-h5py and
+python3-jinja2 (scripts/setup.sh installs them).
+"""
+import base64
+import html
+import io
+import json
+import os
+import platform
+import sys
+
+import h5py
+import jinja2
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+# The x axis and its label per loading; the y axis comes from the comparison
+# (its load_series and units).
+X_AXIS = {
+    "uniaxial": ("strain", "nominal strain ε (1)"),
+    "simple_shear": ("shear_strain", "shear strain γ (1)"),
+    "static": ("load_factor", "load factor (1)"),
+    "vibration": ("time", "time t (s)"),
+    "indentation": ("depth", "indenter depth d (m)"),
+}
+Y_LABEL = {
+    "nominal_stress": "nominal stress (Pa)",
+    "shear_stress": "shear stress σxz (Pa)",
+    "tip_displacement_x": "tip displacement x (m)",
+    "tip_displacement_y": "tip displacement y (m)",
+    "tip_displacement_z": "tip displacement z (m)",
+    "tip_displacement": "tip displacement (m)",
+    "indentation_force": "indentation force (N)",
+}
+VARIANT_STYLE = {"thesis": ("tab:red", "--"), "physical": ("tab:blue", "-"), "calibrated": ("tab:green", "-")}
+
+
+def series(path):
+    with h5py.File(path, "r") as f:
+        return {k: f["series"][k][()] for k in f["series"].keys()}
+
+
+def png(fig):
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=90, bbox_inches="tight")
+    plt.close(fig)
+    return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
+
+
+def pct(v, digits=3):
+    return "–" if v is None else ("%." + str(digits) + "g %%") % (100 * v)
+
+
+def num(v, digits=4):
+    return "–" if v is None else ("%." + str(digits) + "g") % v
+
+
+def load(path):
+    with open(path) as f:
+        return json.load(f)
+
+
+def benchmark_section(d, b):
+    """Figures and the error table of one benchmark."""
+    fem = series(os.path.join(d, b["fem_file"]))
+    runs, rows = [], []
+    for v in b["variants"]:
+        cmp = load(os.path.join(d, v["compare_file"])) if v.get("compare_file") else None
+        msd = series(os.path.join(d, v["msd_file"])) if os.path.exists(os.path.join(d, v["msd_file"])) else None
+        runs.append((v, msd, cmp))
+        rows.append({
+            "variant": v["variant"], "status": v["status"], "failure": v["failure"],
+            "load": pct(cmp and cmp["load_rel_rms"]), "working": pct(cmp and cmp["load_rel_rms_working"]),
+            "volume": num(cmp and cmp["volume_ratio_max_error"], 3),
+            "disp": pct(cmp and cmp["displacement_rel_rms"]), "freq": pct(cmp and cmp["frequency_rel_error"]),
+            "zeta": num(cmp and cmp["damping_ratio_abs_error"], 3),
+            "cost": num(cmp and cmp["msd_cost"], 3), "ratio": num(cmp and cmp["cost_ratio"], 3),
+        })
+    cmp0 = next((c for _, _, c in runs if c), None)
+    ykey = cmp0["load_series"] if cmp0 else None
+    xkey, xlabel = X_AXIS.get(b["loading"], ("time", "time t (s)"))
+    figures = []
+    if ykey:
+        fig, ax = plt.subplots(figsize=(6.4, 4.0))
+        ax.plot(fem[xkey], fem[ykey], "k-", lw=2.2, label="FEM reference")
+        for v, msd, _ in runs:
+            if msd is None or ykey not in msd:
+                continue
+            colour, style = VARIANT_STYLE.get(v["variant"], ("tab:gray", ":"))
+            label = "MSD, %s%s" % (v["variant"], "" if v["status"] == "complete" else " (blew up)")
+            ax.plot(msd[xkey], msd[ykey], color=colour, ls=style, lw=1.3, label=label)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(Y_LABEL.get(ykey, ykey))
+        ax.set_title("%s: %s" % (b["name"], Y_LABEL.get(ykey, ykey).split(" (")[0]))
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+        figures.append(("load curve", png(fig)))
+    if "volume_ratio" in fem and b["loading"] in ("uniaxial", "simple_shear", "indentation"):
+        fig, ax = plt.subplots(figsize=(6.4, 3.2))
+        ax.plot(fem[xkey], fem["volume_ratio"], "k-", lw=2.2, label="FEM reference")
+        for v, msd, _ in runs:
+            if msd is None or "volume_ratio" not in msd:
+                continue
+            colour, style = VARIANT_STYLE.get(v["variant"], ("tab:gray", ":"))
+            ax.plot(msd[xkey], msd["volume_ratio"], color=colour, ls=style, lw=1.3, label="MSD, " + v["variant"])
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("volume ratio V/V₀ (1)")
+        ax.set_title("%s: volume" % b["name"])
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+        figures.append(("volume", png(fig)))
+    return {"name": b["name"], "description": b["description"], "loading": b["loading"], "spec": b["spec"],
+            "sha": b["spec_sha256"][:16], "rows": rows, "figures": figures,
+            "units": cmp0["units"] if cmp0 else "", "load_series": ykey or "–"}
+
+
+def sweep_section(d, path):
+    s = load(os.path.join(d, path))
+    pts = [p for p in s["points"] if p["status"] == "complete"]
+
+    def err(p):
+        return p["load_rel_rms_working"] if p["load_rel_rms_working"] is not None else p["load_rel_rms"]
+
+    fig, ax = plt.subplots(figsize=(6.0, 4.2))
+    for terms, marker in (("all", "o"), ("springs_dampers", "s"), ("no_repulsion", "^"), ("no_volume", "v")):
+        sel = [p for p in pts if p["terms"] == terms and p["integrator"] != "cvode" and err(p) is not None]
+        if sel:
+            ax.scatter([p["cost"] for p in sel], [100 * err(p) for p in sel], marker=marker, s=28,
+                       label="MSD, terms " + terms, alpha=0.8)
+    cv = [p for p in pts if p["integrator"] == "cvode" and err(p) is not None]
+    if cv:
+        ax.scatter([p["cost"] for p in cv], [100 * err(p) for p in cv], marker="x", color="k", label="MSD, CVODE")
+    front = sorted((p for p in pts if p["pareto"]), key=lambda p: p["cost"])
+    if len(front) > 1:
+        ax.plot([p["cost"] for p in front], [100 * err(p) for p in front], "k--", lw=1, label="Pareto front")
+    ax.axvline(s["fem"]["cost"], color="tab:purple", lw=1.5, label="FEM reference cost (%s)" % s["fem"]["label"])
+    for lv in s.get("fem_levels", []):
+        if lv["load_rel_rms"] is not None and lv["load_rel_rms"] > 0:
+            ax.scatter([lv["cost"]], [100 * lv["load_rel_rms"]], marker="D", color="tab:purple",
+                       label="FEM Q%d r%d vs reference" % (lv["degree"], lv["refinement"]))
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("cost (wall s per simulated s)")
+    ax.set_ylabel("load-curve error against the FEM (%)")
+    ax.set_title("speed–accuracy: %s" % s["spec"])
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
+    rows = [{
+        "h": "%.2f" % (1e3 * p["spacing"]), "dt": "adaptive" if p["dt"] is None else "%.3g" % (1e3 * p["dt"]),
+        "integrator": p["integrator"], "terms": p["terms"], "threshold": "off" if not p["threshold"] else "%.2g" % p["threshold"],
+        "cost": num(p["cost"], 3), "err": pct(err(p)), "time": pct(p["time_error"]), "pareto": "★" if p["pareto"] else "",
+    } for p in sorted(pts, key=lambda p: p["cost"])]
+    unstable = [p for p in s["points"] if p["status"] != "complete"]
+    fem_rows = [{"label": s["fem"]["label"] + " (reference)", "dofs": s["fem"]["dofs"], "cost": num(s["fem"]["cost"], 3),
+                 "err": "0 (by definition)"}]
+    fem_rows += [{"label": "%s, Q%d refinement %d" % (lv["label"], lv["degree"], lv["refinement"]), "dofs": lv["dofs"],
+                  "cost": num(lv["cost"], 3), "err": pct(lv["load_rel_rms"])} for lv in s.get("fem_levels", [])]
+    return {"spec": s["spec"], "figure": png(fig), "rows": rows, "unstable": len(unstable), "fem_rows": fem_rows,
+            "load_series": s["load_series"]}
+
+
+def main(d):
+    m = load(os.path.join(d, "suite.json"))
+    benches = [benchmark_section(d, b) for b in m["benchmarks"]]
+    sweeps = [sweep_section(d, p) for p in m["sweeps"]]
+    stability = []
+    for p in m["stability"]:
+        s = load(os.path.join(d, p))
+        stability.append({"spec": s["spec"], "dt": s["dt_search"], "extremes": [{
+            "case": e["case"], "description": e["description"], "terms": e["terms"], "dt": num(e["dt"], 3),
+            "finite": "yes" if e["finite"] else "NO", "failure_time": num(e["failure_time"], 3),
+            "inverted": e["max_inverted"], "volume": num(e["volume_error"], 3)} for e in s["extremes"]]})
+    convergence = [load(os.path.join(d, p)) for p in m["convergence"]]
+    prov = dict(m["provenance"])
+    prov.update({"python": platform.python_version(), "matplotlib": matplotlib.__version__,
+                 "h5py": h5py.__version__, "jinja2": jinja2.__version__})
+    ctx = {"m": m, "prov": prov, "benches": benches, "sweeps": sweeps, "stability": stability,
+           "verification": m["verification"], "convergence": convergence, "pct": pct, "num": num}
+    env = jinja2.Environment(loader=jinja2.FileSystemLoader(os.path.dirname(os.path.abspath(__file__))),
+                             autoescape=jinja2.select_autoescape(["html"]))
+    out = os.path.join(d, "report")
+    os.makedirs(out, exist_ok=True)
+    for name, template in (("index.html", "report.html.j2"), ("summary.md", "summary.md.j2")):
+        text = env.get_template(template).render(**ctx)
+        tmp = os.path.join(out, name + ".tmp")
+        with open(tmp, "w") as f:
+            f.write(text)
+        os.replace(tmp, os.path.join(out, name))
+    print("report: %s (and %s)" % (os.path.join(out, "index.html"), os.path.join(out, "summary.md")))
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    main(sys.argv[1])
