@@ -27,6 +27,16 @@ def main(path):
           % (s["spec"], len(pts), len(ok), s["load_series"], s["load_rms_fem"]))
     print("FEM reference: %s, %d dofs, cost %.3g wall s per simulated s.\n"
           % (s["fem"]["label"], s["fem"]["dofs"], s["fem"]["cost"]))
+    if s.get("fem_levels"):
+        print("**The FEM's own trade** (other degree / refinement levels on the same coarse cells; error: "
+              "load curve against the reference's):\n")
+        print("| FEM | dofs | cost | error vs reference % |")
+        print("|---|---:|---:|---:|")
+        print("| %s (reference) | %d | %.3g | 0 |" % (s["fem"]["label"], s["fem"]["dofs"], s["fem"]["cost"]))
+        for lv in s["fem_levels"]:
+            print("| Q%d, refinement %d (%s) | %d | %.3g | %s |" % (lv["degree"], lv["refinement"], lv["label"],
+                                                                  lv["dofs"], lv["cost"], pct(lv["load_rel_rms"])))
+        print()
 
     print("**Pareto front** (cost = wall s per simulated s; error = relative RMS of the load curve "
           "over the working range):\n")

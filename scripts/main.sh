@@ -1,11 +1,10 @@
 #!/usr/bin/env bash
-# The main job on its built-in default: set up, build, run the standard suite
-# (today: the thesis' three uni-axial experiments), print the summary table and
-# write results/ (HDF5 + CSV per experiment, and a figure).
+# The main job on its built-in default: set up, build, run the standard suite's
+# quick tier (the comparison benchmarks by the FEM and three MSD variants, a
+# small sweep, the extremes, FEM verification), print the error table, and write
+# results/ with the report (results/report/index.html and summary.md).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/setup.sh"
 out="${1:-$TB_ROOT/results}"
-"$TB_ROOT/build/tissuebench" suite --out "$out"
-/usr/bin/python3 "$TB_ROOT/reports/plot_uniaxial.py" "$out/uniaxial_thesis.png" \
-  "$out/uniaxial_thesis_naive.h5" "$out/uniaxial_thesis_repulsion.h5" "$out/uniaxial_thesis_full.h5"
-echo "figure: $out/uniaxial_thesis.png"
+"$TB_ROOT/build/tissuebench" suite --tier quick --out "$out"
+echo "report: $out/report/index.html"

@@ -18,6 +18,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -337,9 +338,11 @@ int cmd_suite(const SuiteArgs& args) {
   std::printf("\nSuite %s: MSD against FEM (relative RMS of the load curve; working range where defined)\n",
               tier.name.c_str());
   std::printf("%-22s %-11s %10s %10s %10s %10s\n", "benchmark", "variant", "load %", "work. %", "dV max", "cost x");
-  for (const auto& v : tier.variants)
-    for (const auto& e : fs::directory_iterator(fs::path(args.out) / v)) {
-      const std::string f = e.path().string();
+  for (const auto& v : tier.variants) {
+    std::vector<std::string> files;
+    for (const auto& e : fs::directory_iterator(fs::path(args.out) / v)) files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) {
       if (f.size() < 13 || f.compare(f.size() - 13, 13, "_compare.json") != 0) continue;
       const YAML::Node j = YAML::LoadFile(f);
       auto num = [&](const char* k) {
@@ -350,6 +353,7 @@ int cmd_suite(const SuiteArgs& args) {
                   cell(100 * num("load_rel_rms")).c_str(), cell(100 * num("load_rel_rms_working")).c_str(),
                   cell(num("volume_ratio_max_error")).c_str(), cell(num("cost_ratio")).c_str());
     }
+  }
   if (failed) std::printf("%d MSD run(s) failed (blow-ups are results: see %s/suite.json)\n", failed, args.out.c_str());
   if (args.no_report) return 0;
   const std::string cmd = "/usr/bin/python3 " + (fs::path(TISSUEBENCH_REPORTS_DIR) / "make_report.py").string() +

@@ -39,7 +39,9 @@ std::map<std::string, double> collect_metrics(const std::string& dir) {
       throw msd::Error(f.string() + ": not a comparison file (" + e.msg + ")");
     }
     if (!j["spec"] || !j["load_rel_rms"]) throw msd::Error(f.string() + ": not a comparison file (no spec / load_rel_rms)");
-    const std::string spec = j["spec"].as<std::string>();
+    // Keyed by the file's folder under `dir` (a suite's variant) and the spec.
+    const std::string rel = fs::relative(f.parent_path(), dir).generic_string();
+    const std::string spec = (rel.empty() || rel == "." ? "" : rel + "/") + j["spec"].as<std::string>();
     if (source.count(spec))
       throw msd::Error(f.string() + ": spec '" + spec + "' is compared twice (also in " + source[spec] + ")");
     source[spec] = f.string();
@@ -112,7 +114,7 @@ GuardEntry default_entry(const std::string& key, double value) {
   e.value = value;
   const bool speed = key.size() >= 10 && key.compare(key.size() - 10, 10, "cost_ratio") == 0;
   if (speed) {
-    e.tolerance = 0.5;
+    e.tolerance = 1.0;
     e.relative = true;
   } else {
     e.tolerance = std::max(0.005, 0.1 * std::abs(value));

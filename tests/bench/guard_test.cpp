@@ -27,11 +27,14 @@ TEST(Guard, CollectsFiniteGuardedKeysFromEveryComparisonUnderTheFolder) {
   std::ofstream(d.file("other.json")) << "{}";  // not a comparison file name: ignored
   const auto m = bench::collect_metrics(d.path().string());
   ASSERT_EQ(m.size(), 4u);
-  EXPECT_DOUBLE_EQ(m.at("uni.load_rel_rms"), 0.25);
-  EXPECT_DOUBLE_EQ(m.at("shear.cost_ratio"), 0.2);
-  EXPECT_EQ(m.count("uni.load_rel_rms_working"), 0u);  // null: not applicable
-  // The same spec twice is ambiguous; an empty folder has nothing to check.
+  EXPECT_DOUBLE_EQ(m.at("a/uni.load_rel_rms"), 0.25);
+  EXPECT_DOUBLE_EQ(m.at("b/c/shear.cost_ratio"), 0.2);
+  EXPECT_EQ(m.count("a/uni.load_rel_rms_working"), 0u);  // null: not applicable
+  // The same spec in another folder is another entry (a suite's variants) ...
   write_compare(d.file("z/uni_compare.json"), "uni", 0.3, 0.1);
+  EXPECT_DOUBLE_EQ(bench::collect_metrics(d.path().string()).at("z/uni.load_rel_rms"), 0.3);
+  // ... twice in one folder it is ambiguous; an empty folder has nothing to check.
+  write_compare(d.file("z/uni2_compare.json"), "uni", 0.3, 0.1);
   EXPECT_THROW(bench::collect_metrics(d.path().string()), msd::Error);
   testing_support::TempDir empty("guard");
   EXPECT_THROW(bench::collect_metrics(empty.path().string()), msd::Error);

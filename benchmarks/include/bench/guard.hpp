@@ -2,8 +2,10 @@
 // baseline with a tolerance per metric.
 //
 // Metrics are read from every `*_compare.json` under a folder (the files
-// `run --solver both` and `compare --json` write), keyed "SPEC.KEY" with KEY
-// one of kGuardedKeys. Accuracy metrics carry absolute tolerances (the error
+// `run --solver both`, `compare --json` and `suite` write), keyed
+// "SUBFOLDER/SPEC.KEY" (SUBFOLDER: the file's folder under the one checked, e.g.
+// a suite's variant; none for files directly in it) with KEY one of
+// kGuardedKeys. Accuracy metrics carry absolute tolerances (the error
 // fractions themselves); the one speed figure, `cost_ratio` (MSD cost over FEM
 // cost measured on the same machine), carries a relative one - never an
 // absolute time.
@@ -11,8 +13,8 @@
 // Baseline file (YAML; written by `tissuebench check --update`):
 //     tier: quick
 //     metrics:
-//       uniaxial.load_rel_rms: {value: 0.807, tolerance: 0.04}
-//       uniaxial.cost_ratio: {value: 0.11, tolerance: 0.5, relative: true}
+//       physical/uniaxial.load_rel_rms: {value: 0.807, tolerance: 0.04}
+//       physical/uniaxial.cost_ratio: {value: 0.11, tolerance: 0.5, relative: true}
 #pragma once
 
 #include <map>
@@ -24,9 +26,9 @@ namespace bench {
 /// The compare-JSON keys the guard reads.
 extern const std::vector<std::string> kGuardedKeys;
 
-/// "SPEC.KEY" -> value for every finite guarded value in DIR's *_compare.json
-/// files (recursively). Throws msd::Error naming a file that cannot be read or
-/// a spec that appears twice.
+/// "SUBFOLDER/SPEC.KEY" -> value for every finite guarded value in DIR's
+/// *_compare.json files (recursively). Throws msd::Error naming a file that
+/// cannot be read or a spec that appears twice in one folder.
 std::map<std::string, double> collect_metrics(const std::string& dir);
 
 struct GuardEntry {
@@ -46,8 +48,8 @@ Baseline read_baseline(const std::string& path);
 void write_baseline(const Baseline& b, const std::string& path);
 
 /// The default tolerance of a new baseline entry: accuracy metrics
-/// max(0.005, 10 % of the value) absolute; cost_ratio 50 % relative (timings
-/// on a shared machine).
+/// max(0.005, 10 % of the value) absolute; cost_ratio 100 % relative (timings
+/// on a shared two-core machine: it flags MSD becoming twice as slow relative to the FEM).
 GuardEntry default_entry(const std::string& key, double value);
 
 struct GuardReport {

@@ -1,0 +1,71 @@
+// The suite's pieces: tier files (strict, errors named) and the MSD variants.
+#include "bench/suite.hpp"
+
+#include "msd/core/types.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+namespace {
+
+std::string error_of(const std::string& file) {
+  try {
+    bench::load_tier(file);
+  } catch (const msd::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(Suite, ShippedTiersLoadAndNameTheirSpecs) {
+  for (const char* tier : {"quick", "full"}) {
+    const bench::SuiteTier t = bench::load_tier(std::string(TISSUEBENCH_SUITES_DIR) + "/" + tier + ".yaml");
+    EXPECT_EQ(t.name, tier);
+    EXPECT_EQ(t.variants, (std::vector<std::string>{"thesis", "physical", "calibrated"}));
+    EXPECT_GE(t.benchmarks.size(), 5u);
+    EXPECT_FALSE(t.sweeps.empty());
+    EXPECT_FALSE(t.stability.empty());
+    EXPECT_FALSE(t.verification.empty());
+    bool indentation = false;
+    for (const auto& b : t.benchmarks) {
+      indentation = indentation || b.spec == "indentation.yaml";
+      EXPECT_NO_THROW(bench::load_spec(std::string(TISSUEBENCH_SPECS_DIR) + "/" + b.spec)) << b.spec;
+    }
+    EXPECT_TRUE(indentation) << tier;
+  }
+}
+
+TEST(Suite, BadTierFilesAreNamed) {
+  testing_support::TempDir d("suite");
+  std::ofstream(d.file("a.yaml")) << "tier: x\nbenchmarks: [{spec: s.yaml, spce: 2}]\n";
+  EXPECT_NE(error_of(d.file("a.yaml")).find("benchmarks[0].spce: unknown field"), std::string::npos)
+      << error_of(d.file("a.yaml"));
+  std::ofstream(d.file("b.yaml")) << "tier: x\nvariants: [thesis, fancy]\nbenchmarks: [{spec: s.yaml}]\n";
+  EXPECT_NE(error_of(d.file("b.yaml")).find("unknown variant 'fancy'"), std::string::npos);
+  std::ofstream(d.file("c.yaml")) << "tier: x\n";
+  EXPECT_NE(error_of(d.file("c.yaml")).find("lists no benchmarks"), std::string::npos);
+  EXPECT_NE(error_of(d.file("none.yaml")).find("cannot read"), std::string::npos);
+}
+
+TEST(Suite, VariantsSetTheThesisConstantsOrTheMaterialsCalibration) {
+  const bench::Spec spec = bench::load_spec(std::string(TISSUEBENCH_SPECS_DIR) + "/bending.yaml");
+  const std::string cal = std::string(TISSUEBENCH_SUITES_DIR) + "/../calibration";
+  const bench::Spec thesis = bench::suite_variant(spec, "thesis", cal);
+  EXPECT_EQ(thesis.msd->constants, "raw");
+  EXPECT_DOUBLE_EQ(thesis.msd->k_s, 10.75);
+  EXPECT_DOUBLE_EQ(thesis.msd->k_d, 0.2);
+  EXPECT_EQ(thesis.msd->integrator, "explicit_euler");
+  EXPECT_EQ(thesis.msd->mass_lumping, "equal");
+  EXPECT_DOUBLE_EQ(thesis.msd->dt, spec.msd->dt);
+  const bench::Spec calibrated = bench::suite_variant(spec, "calibrated", cal);
+  EXPECT_NE(calibrated.msd->calibration.find("passive_muscle.yaml"), std::string::npos);
+  EXPECT_NE(calibrated.msd->stiffness_scale, spec.msd->stiffness_scale);
+  // The FEM side of a variant is the spec's: same geometry, mesh and material.
+  EXPECT_EQ(calibrated.mesh->spacing, spec.mesh->spacing);
+  EXPECT_EQ(bench::suite_variant(spec, "physical", cal).text, spec.text);
+  EXPECT_THROW(bench::suite_variant(spec, "tuned", cal), msd::Error);
+}
