@@ -362,3 +362,17 @@ TEST(Cli, CheckPassesUnchangedAndFailsOnAPerturbedSpringConstant) {
   EXPECT_EQ(sh("check " + dir.file("nowhere") + " --baseline " + dir.file("b.yaml")).code, 2);
   EXPECT_EQ(sh("check " + dir.file("base") + " --baseline " + dir.file("none.yaml")).code, 2);
 }
+
+TEST(Cli, SuiteBadTierOrSpecIsAnInputErrorBeforeAnythingRuns) {
+  testing_support::TempDir dir("cli");
+  const Result r = sh("suite --tier medium --out " + dir.file("out"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("--tier: 'medium'"), std::string::npos) << r.output;
+  // A tier naming a spec with a bad field stops before any run or folder.
+  std::ofstream(dir.file("bad_spec.yaml")) << replaced(both_spec(), "spacing: 0.01", "spacing: 0.01, spasing: 1");
+  std::ofstream(dir.file("t.yaml")) << "tier: t\nvariants: [physical]\nbenchmarks: [{spec: bad_spec.yaml}]\n";
+  const Result b = sh("suite --tier " + dir.file("t.yaml") + " --out " + dir.file("out"));
+  EXPECT_EQ(b.code, 2);
+  EXPECT_NE(b.output.find("mesh.spasing: unknown field"), std::string::npos) << b.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("out")));
+}
