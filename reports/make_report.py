@@ -21,6 +21,7 @@ import sys
 import h5py
 import jinja2
 import matplotlib
+import yaml
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -44,6 +45,31 @@ Y_LABEL = {
     "indentation_force": "indentation force (N)",
 }
 VARIANT_STYLE = {"thesis": ("tab:red", "--"), "physical": ("tab:blue", "-"), "calibrated": ("tab:green", "-")}
+
+
+def closed_form(fem_path, loading):
+    """A closed form the benchmark can be held against, where one exists:
+    (label, function of the x axis) for the load curve, or a note."""
+    with h5py.File(fem_path, "r") as f:
+        spec = yaml.safe_load(f["meta"].attrs["spec"])
+        mat = {k: float(v) for k, v in f["meta"]["material"].attrs.items()}
+    geo, load = spec.get("geometry", {}), spec.get("loading", {})
+    E, rho = mat.get("youngs_modulus"), mat.get("density")
+    if loading == "static" and geo.get("shape") == "box" and load.get("fixed", "bottom") == "left":
+        L, b, h = geo["size"]
+        inertia = b * h ** 3 / 12.0
+        trac = load.get("traction")
+        if trac and trac.get("face") == "right":
+            F = trac["force"][2]
+            return ("beam theory F L³/3EI (small deflection)", lambda lam: lam * F * L ** 3 / (3 * E * inertia)), None
+        g = (load.get("gravity") or [0, 0, 0])[2]
+        if g:
+            w = rho * g * b * h
+            return ("beam theory w L⁴/8EI (small deflection)", lambda lam: lam * w * L ** 4 / (8 * E * inertia)), None
+    if loading == "vibration" and geo.get("shape") == "box":
+        f1 = (E / rho) ** 0.5 / (4 * geo["size"][2])
+        return None, "closed form for a slender fixed–free bar, √(E/ρ)/4L: %.4g Hz" % f1
+    return None, None
 
 
 def series(path):
@@ -90,10 +116,16 @@ def benchmark_section(d, b):
     cmp0 = next((c for _, _, c in runs if c), None)
     ykey = cmp0["load_series"] if cmp0 else None
     xkey, xlabel = X_AXIS.get(b["loading"], ("time", "time t (s)"))
+    curve, note = closed_form(os.path.join(d, b["fem_file"]), b["loading"])
+    if curve:
+        note = "dotted: " + curve[0] + ", valid only while the deflection is small against the length"
     figures = []
     if ykey:
         fig, ax = plt.subplots(figsize=(6.4, 4.0))
         ax.plot(fem[xkey], fem[ykey], "k-", lw=2.2, label="FEM reference")
+        if curve:
+            xs = fem[xkey]
+            ax.plot(xs, [curve[1](x) for x in xs], color="0.5", ls=":", lw=1.5, label=curve[0])
         for v, msd, _ in runs:
             if msd is None or ykey not in msd:
                 continue
@@ -122,7 +154,8 @@ def benchmark_section(d, b):
         figures.append(("volume", png(fig)))
     return {"name": b["name"], "description": b["description"], "loading": b["loading"], "spec": b["spec"],
             "sha": b["spec_sha256"][:16], "rows": rows, "figures": figures,
-            "units": cmp0["units"] if cmp0 else "", "load_series": ykey or "–"}
+            "units": cmp0["units"] if cmp0 else "", "load_series": ykey or "–", "closed_form": note,
+            "fem_frequency": num(cmp0 and cmp0["frequency_fem"], 4)}
 
 
 def sweep_section(d, path):

@@ -11,7 +11,7 @@ TB_PACKAGES=(
   libhdf5-openmpi-dev
   libdeal.ii-dev libsundials-dev openmpi-bin libopenblas0-serial
   libgtest-dev libbenchmark-dev
-  python3 python3-numpy python3-h5py python3-matplotlib python3-jinja2
+  python3 python3-numpy python3-h5py python3-matplotlib python3-jinja2 python3-yaml
   chromium
 )
 
