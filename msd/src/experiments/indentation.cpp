@@ -54,14 +54,9 @@ IndentationSample measure_indentation(const Model& model, const IndentationSetup
   s.depth = setup.max_depth * path.value(state.t);
   const RigidObstacle& ob = model.obstacles.at(static_cast<size_t>(setup.obstacle));
   const Vec3 offset(0, 0, -s.depth), e(0, 0, -1);
-  const bool has_external = model.external_force.cols() == model.num_nodes();
-  const double scale = path.value(state.t);
-  auto applied = [&](int n) {
-    Vec3 f = scratch.f.col(n);
-    if (has_external) f += scale * model.external_force.col(n);
-    if (model.terms & kGravity) f += scale * model.mass[n] * model.gravity;
-    return f;
-  };
+  // Gravity and dead loads, if a scene adds them, stay at full scale: the
+  // path drives the indenter, not the loads.
+  auto applied = [&](int n) { return applied_force(model, scratch, 1.0, n); };
   for (int n : ob.nodes) {
     const CylinderGap g = cylinder_gap(ob.cylinder, offset, state.x.col(n));
     if (g.depth < -1e-9 * ob.cylinder.radius) continue;
@@ -70,10 +65,10 @@ IndentationSample measure_indentation(const Model& model, const IndentationSetup
     s.force += lambda * g.normal.dot(e);
   }
   for (int n : model.groups.at(static_cast<size_t>(setup.clamp_group)).nodes) s.base_reaction -= applied(n).z();
-  const ElementVolumes ev = element_volumes(model, state.x);
-  s.inverted_elements = ev.inverted;
-  s.volume_ratio = ev.volume / setup.volume;
-  s.kinetic_energy = kinetic_energy(model, state.v);
+  const BulkSample bulk = measure_bulk(model, state, setup.volume);
+  s.volume_ratio = bulk.volume_ratio;
+  s.inverted_elements = bulk.inverted_elements;
+  s.kinetic_energy = bulk.kinetic_energy;
   return s;
 }
 

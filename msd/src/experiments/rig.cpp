@@ -1,5 +1,7 @@
 #include "msd/experiments/rig.hpp"
 
+#include "msd/forces/element_forces.hpp"
+
 #include <cmath>
 #include <set>
 
@@ -74,6 +76,22 @@ ElementVolumes element_volumes(const Model& model, const Points& x) {
     r.inverted += ve <= 0.0;
   }
   return r;
+}
+
+BulkSample measure_bulk(const Model& model, const State& state, double rest_volume) {
+  const ElementVolumes ev = element_volumes(model, state.x);
+  BulkSample b;
+  b.volume_ratio = ev.volume / rest_volume;
+  b.inverted_elements = ev.inverted;
+  b.kinetic_energy = kinetic_energy(model, state.v);
+  return b;
+}
+
+Vec3 applied_force(const Model& model, const Scratch& scratch, double load_scale, int node) {
+  Vec3 f = scratch.f.col(node);
+  if (model.external_force.cols() == model.num_nodes()) f += load_scale * model.external_force.col(node);
+  if (model.terms & kGravity) f += load_scale * model.mass[node] * model.gravity;
+  return f;
 }
 
 RunStats run_experiment(const Model& model, State state, double end_time, double size,

@@ -27,10 +27,10 @@ ShearSample measure_shear(const Model& model, const UniaxialSetup& setup, const 
   s.shear_strain = offset / static_cast<double>(top.nodes.size()) / setup.length;
   s.shear_stress = -f.x() / setup.area;
   s.normal_stress = -f.z() / setup.area;
-  const ElementVolumes ev = element_volumes(model, state.x);
-  s.inverted_elements = ev.inverted;
-  s.volume_ratio = ev.volume / setup.volume;
-  s.kinetic_energy = kinetic_energy(model, state.v);
+  const BulkSample bulk = measure_bulk(model, state, setup.volume);
+  s.volume_ratio = bulk.volume_ratio;
+  s.inverted_elements = bulk.inverted_elements;
+  s.kinetic_energy = bulk.kinetic_energy;
   return s;
 }
 

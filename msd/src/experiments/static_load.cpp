@@ -37,17 +37,12 @@ ClampSample measure_clamp(const Model& model, const ClampSetup& setup, const Loa
   s.time = state.t;
   s.load_factor = load_factor.value(state.t);
   s.probe_displacement = state.x.col(setup.probe_node) - model.rest_positions.col(setup.probe_node);
-  const bool has_external = model.external_force.cols() == model.num_nodes();
-  for (int n : model.groups.at(static_cast<size_t>(setup.clamp_group)).nodes) {
-    Vec3 f = scratch.f.col(n);
-    if (has_external) f += s.load_factor * model.external_force.col(n);
-    if (model.terms & kGravity) f += s.load_factor * model.mass[n] * model.gravity;
-    s.reaction -= f;
-  }
-  const ElementVolumes ev = element_volumes(model, state.x);
-  s.inverted_elements = ev.inverted;
-  s.volume_ratio = ev.volume / setup.volume;
-  s.kinetic_energy = kinetic_energy(model, state.v);
+  for (int n : model.groups.at(static_cast<size_t>(setup.clamp_group)).nodes)
+    s.reaction -= applied_force(model, scratch, s.load_factor, n);
+  const BulkSample bulk = measure_bulk(model, state, setup.volume);
+  s.volume_ratio = bulk.volume_ratio;
+  s.inverted_elements = bulk.inverted_elements;
+  s.kinetic_energy = bulk.kinetic_energy;
   return s;
 }
 

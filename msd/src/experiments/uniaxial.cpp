@@ -74,10 +74,10 @@ UniaxialSample measure_uniaxial(const Model& model, const UniaxialSetup& setup, 
   s.strain = (ztop - zbot - setup.length) / setup.length;
   s.nominal_stress = -f.z() / setup.area;
   s.lateral_force = std::hypot(f.x(), f.y());
-  const ElementVolumes ev = element_volumes(model, state.x);
-  s.volume_ratio = ev.volume / setup.volume;
-  s.inverted_elements = ev.inverted;
-  s.kinetic_energy = kinetic_energy(model, state.v);
+  const BulkSample bulk = measure_bulk(model, state, setup.volume);
+  s.volume_ratio = bulk.volume_ratio;
+  s.inverted_elements = bulk.inverted_elements;
+  s.kinetic_energy = bulk.kinetic_energy;
   s.nonlinear_active = scratch.nonlinear_active;
   return s;
 }

@@ -41,6 +41,20 @@ struct ElementVolumes {
 };
 ElementVolumes element_volumes(const Model& model, const Points& x);
 
+/// What every test samples of the whole body: volume ratio V/V0 (against
+/// `rest_volume`), inverted elements, kinetic energy (J).
+struct BulkSample {
+  double volume_ratio = 1.0;
+  int inverted_elements = 0;
+  double kinetic_energy = 0.0;
+};
+BulkSample measure_bulk(const Model& model, const State& state, double rest_volume);
+
+/// Force on a node from everything but its constraints: the internal forces in
+/// scratch.f plus the dead loads (external forces and gravity) at `load_scale`.
+/// Its negative is what a support or a contact must supply to hold the node.
+Vec3 applied_force(const Model& model, const Scratch& scratch, double load_scale, int node);
+
 struct TimeSteppingOptions {
   double dt = 1e-4;
   Integrator integrator = Integrator::SymplecticEuler;
