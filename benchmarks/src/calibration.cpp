@@ -1,5 +1,7 @@
 #include "bench/calibration.hpp"
 
+#include "bench/compare.hpp"
+
 #include "bench/fem_runner.hpp"
 #include "bench/msd_runner.hpp"
 #include "bench/results_file.hpp"
@@ -149,9 +151,9 @@ double inverse_map(double p, double lo, double hi) {
 }
 
 std::string load_series_of(const Spec& s) {
-  if (s.loading.type == "uniaxial") return "nominal_stress";
-  if (s.loading.type == "simple_shear") return "shear_stress";
-  throw msd::Error(s.path + ": calibration specs must be uniaxial or simple_shear");
+  if (s.loading.type != "uniaxial" && s.loading.type != "simple_shear")
+    throw msd::Error(s.path + ": calibration specs must be uniaxial or simple_shear");
+  return load_series_name(s.loading.type);
 }
 
 }  // namespace

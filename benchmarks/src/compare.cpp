@@ -31,6 +31,15 @@ const std::vector<double>& series(const Results& r, const std::string& name, con
 
 }  // namespace
 
+std::string load_series_name(const std::string& loading) {
+  if (loading == "uniaxial") return "nominal_stress";
+  if (loading == "simple_shear") return "shear_stress";
+  if (loading == "vibration") return "tip_displacement";
+  if (loading == "indentation") return "indentation_force";
+  if (loading == "static") return "tip_displacement_z";
+  return "";
+}
+
 Comparison compare_results(const std::string& msd_file, const std::string& fem_file, bool displacement_field) {
   const Results m = read_results(msd_file), f = read_results(fem_file);
   for (const auto& [r, file, solver] : {std::tuple<const Results&, const std::string&, const char*>{m, msd_file, "msd"},
@@ -52,12 +61,11 @@ Comparison compare_results(const std::string& msd_file, const std::string& fem_f
   const auto& tm = series(m, "time", msd_file);
   const auto& tf = series(f, "time", fem_file);
   std::string x_name;
+  c.load_series = load_series_name(c.loading);
   if (c.loading == "uniaxial") {
-    c.load_series = "nominal_stress";
     c.units = "Pa";
     x_name = "strain";
   } else if (c.loading == "simple_shear") {
-    c.load_series = "shear_stress";
     c.units = "Pa";
     x_name = "shear_strain";
   } else if (c.loading == "static") {
@@ -74,11 +82,9 @@ Comparison compare_results(const std::string& msd_file, const std::string& fem_f
     c.units = "m";
     x_name = "load_factor";
   } else if (c.loading == "indentation") {
-    c.load_series = "indentation_force";
     c.units = "N";
     x_name = "depth";
   } else {
-    c.load_series = "tip_displacement";
     c.units = "m";
   }
   const auto& ym = series(m, c.load_series, msd_file);
@@ -182,16 +188,12 @@ Comparison compare_results(const std::string& msd_file, const std::string& fem_f
   return c;
 }
 
-namespace {
-
-
-}  // namespace
-
 void write_comparison_json(const Comparison& c, const std::string& path) {
   std::ofstream out(path);
   if (!out) throw msd::Error(path + ": cannot write");
-  out << "{\n  \"spec\": \"" << c.spec << "\",\n  \"loading\": \"" << c.loading << "\",\n  \"load_series\": \""
-      << c.load_series << "\",\n  \"units\": \"" << c.units << "\",\n  \"points\": " << c.points
+  out << "{\n  \"spec\": " << json_string(c.spec) << ",\n  \"loading\": " << json_string(c.loading)
+      << ",\n  \"load_series\": " << json_string(c.load_series) << ",\n  \"units\": " << json_string(c.units)
+      << ",\n  \"points\": " << c.points
       << ",\n  \"load_rms_fem\": " << json_number(c.load_rms_fem) << ",\n  \"load_rel_rms\": " << json_number(c.load_rel_rms)
       << ",\n  \"load_rel_rms_working\": " << json_number(c.load_rel_rms_working)
       << ",\n  \"load_max_abs_error\": " << json_number(c.load_max_abs_error)

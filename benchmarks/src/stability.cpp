@@ -1,5 +1,7 @@
 #include "bench/stability.hpp"
 
+#include "bench/compare.hpp"
+
 #include "bench/msd_runner.hpp"
 #include "bench/series_tools.hpp"
 #include "bench/sweep.hpp"
@@ -36,9 +38,7 @@ TrialOutcome run_trial(const Spec& spec) {
   const MsdProblem p = compile_msd(spec);
   TrialOutcome o;
   const int c_vol = column(p, "volume_ratio"), c_inv = column(p, "inverted_elements");
-  int c_load = -1;
-  for (const char* k : {"nominal_stress", "shear_stress", "tip_displacement", "tip_displacement_z"})
-    if (c_load < 0) c_load = column(p, k);
+  const int c_load = column(p, load_series_name(spec.loading.type).c_str());
   bool first = true;
   const msd::ExperimentHooks hooks = msd_hooks(
       p,

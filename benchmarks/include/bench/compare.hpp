@@ -41,6 +41,12 @@ struct Comparison {
   double cost_ratio = std::numeric_limits<double>::quiet_NaN();
 };
 
+/// The load curve a loading is judged by: nominal_stress (uniaxial),
+/// shear_stress (simple_shear), tip_displacement (vibration),
+/// indentation_force (indentation), tip_displacement_z (static: the default;
+/// a comparison picks the component the FEM moves most along); "" otherwise.
+std::string load_series_name(const std::string& loading);
+
 /// Compares two complete results files (msd first). Throws msd::Error when a
 /// file is missing, incomplete, of the wrong solver or of a different loading.
 /// `displacement_field` false skips the field comparison (an MSD run on another

@@ -1,0 +1,342 @@
+// bench::compare_results on hand-made results files whose errors are known:
+// the load curve over the whole path and the working range, the volume ratio,
+// the displacement field, the ring-down frequency and damping, the costs, and
+// the refusals (wrong solver, incomplete run, different tests).
+#include "bench/compare.hpp"
+
+#include "bench/results_file.hpp"
+#include "msd/core/types.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <sstream>
+
+namespace {
+
+struct FileSpec {
+  std::string solver = "msd";
+  std::string test = "uniaxial (bonded platens)";
+  std::string spec_name = "synthetic";
+  std::vector<std::string> columns;
+  std::vector<double> times;
+  /// value of column c at time t
+  std::function<double(const std::string&, double)> value;
+  double wall_seconds = 1.0;
+  std::map<std::string, double> metrics;
+  bool finish = true;
+};
+
+void write(const std::string& path, const FileSpec& s) {
+  bench::RunMeta meta;
+  meta.solver = s.solver;
+  meta.spec_text = "name: " + s.spec_name + "\n";
+  meta.spec_path = s.spec_name + ".yaml";
+  meta.spec_name = s.spec_name;
+  meta.text = {{"test", s.test}};
+  std::vector<bench::SeriesColumn> cols{{"time", "s"}};
+  for (const auto& c : s.columns) cols.push_back({c, "-"});
+  bench::ResultsWriter w(path, meta, cols);
+  for (double t : s.times) {
+    std::vector<double> row{t};
+    for (const auto& c : s.columns) row.push_back(s.value(c, t));
+    w.append(row);
+  }
+  w.set_timing(s.wall_seconds, static_cast<long>(s.times.size()), 1e-3, 1);
+  for (const auto& [k, v] : s.metrics) w.set_metric(k, v);
+  if (s.finish) w.finish();
+}
+
+std::vector<double> times(int n, double end) {
+  std::vector<double> t;
+  for (int i = 0; i <= n; ++i) t.push_back(end * i / n);
+  return t;
+}
+
+// The thesis-like path: strain -0.5 ... +1.0 over one second.
+double strain_at(double t) { return -0.5 + 1.5 * t; }
+
+FileSpec uniaxial_fem() {
+  FileSpec f;
+  f.solver = "fem";
+  f.columns = {"strain", "nominal_stress", "volume_ratio"};
+  f.times = times(100, 1.0);
+  f.value = [](const std::string& c, double t) {
+    if (c == "strain") return strain_at(t);
+    if (c == "nominal_stress") return 1000.0 * strain_at(t);
+    return 1.0;
+  };
+  f.wall_seconds = 8.0;
+  return f;
+}
+
+}  // namespace
+
+TEST(Compare, LoadSeriesFollowTheLoading) {
+  EXPECT_EQ(bench::load_series_name("uniaxial"), "nominal_stress");
+  EXPECT_EQ(bench::load_series_name("simple_shear"), "shear_stress");
+  EXPECT_EQ(bench::load_series_name("vibration"), "tip_displacement");
+  EXPECT_EQ(bench::load_series_name("indentation"), "indentation_force");
+  EXPECT_EQ(bench::load_series_name("static"), "tip_displacement_z");
+  EXPECT_EQ(bench::load_series_name("cooks_membrane"), "");
+}
+
+TEST(Compare, UniformRelativeErrorVolumeErrorAndCostsOnAFinerMsdSampling) {
+  testing_support::TempDir dir("compare");
+  write(dir.file("fem.h5"), uniaxial_fem());
+  FileSpec m;
+  m.columns = {"strain", "nominal_stress", "volume_ratio"};
+  m.times = times(200, 1.0);  // twice the FEM's rate: the MSD curve is interpolated
+  m.value = [](const std::string& c, double t) {
+    if (c == "strain") return strain_at(t);
+    if (c == "nominal_stress") return 1100.0 * strain_at(t);  // 10 % everywhere
+    return 1.0 - 0.05 * t;                                    // volume error 0.05 at the end
+  };
+  m.wall_seconds = 2.0;
+  write(dir.file("msd.h5"), m);
+
+  const bench::Comparison c = bench::compare_results(dir.file("msd.h5"), dir.file("fem.h5"));
+  EXPECT_EQ(c.spec, "synthetic");
+  EXPECT_EQ(c.loading, "uniaxial");
+  EXPECT_EQ(c.load_series, "nominal_stress");
+  EXPECT_EQ(c.units, "Pa");
+  EXPECT_EQ(c.points, 101);
+  EXPECT_NEAR(c.load_rel_rms, 0.10, 1e-12);
+  EXPECT_NEAR(c.load_rel_rms_working, 0.10, 1e-12);
+  EXPECT_NEAR(c.load_max_abs_error, 100.0, 1e-9);  // 10 % of 1000 Pa at strain 1.0
+  EXPECT_NEAR(c.volume_ratio_max_error, 0.05, 1e-12);
+  EXPECT_NEAR(c.msd_cost, 2.0, 1e-12);
+  EXPECT_NEAR(c.fem_cost, 8.0, 1e-12);
+  EXPECT_NEAR(c.cost_ratio, 0.25, 1e-12);
+  // No field data, no vibration: those metrics stay undefined, not zero.
+  EXPECT_TRUE(std::isnan(c.displacement_rel_rms));
+  EXPECT_TRUE(std::isnan(c.frequency_rel_error));
+  // The table prints the figures.
+  const std::string table = bench::format_comparison(c);
+  EXPECT_NE(table.find("relative RMS error"), std::string::npos) << table;
+  EXPECT_NE(table.find("10 %"), std::string::npos) << table;
+}
+
+TEST(Compare, WorkingRangeKeepsOnlyStrainsWithinPointFour) {
+  testing_support::TempDir dir("compare");
+  const FileSpec f = uniaxial_fem();
+  write(dir.file("fem.h5"), f);
+  // Exact inside |strain| <= 0.4 (classified at the FEM's own samples), 500 Pa off outside.
+  auto outside = [](double t) {
+    const double s = strain_at(std::round(t * 100.0) / 100.0);
+    return std::abs(s) > 0.4 + 1e-12;
+  };
+  FileSpec m;
+  m.columns = {"strain", "nominal_stress", "volume_ratio"};
+  m.times = times(100, 1.0);
+  m.value = [&](const std::string& c, double t) {
+    if (c == "strain") return strain_at(t);
+    if (c == "nominal_stress") return 1000.0 * strain_at(t) + (outside(t) ? 500.0 : 0.0);
+    return 1.0;
+  };
+  write(dir.file("msd.h5"), m);
+  double sum_d = 0, sum_f = 0;
+  int n_out = 0;
+  for (double t : f.times) {
+    const double y = 1000.0 * strain_at(t);
+    sum_f += y * y;
+    if (outside(t)) {
+      sum_d += 500.0 * 500.0;
+      ++n_out;
+    }
+  }
+  ASSERT_GT(n_out, 10);
+  const bench::Comparison c = bench::compare_results(dir.file("msd.h5"), dir.file("fem.h5"));
+  EXPECT_NEAR(c.load_rel_rms_working, 0.0, 1e-12);
+  EXPECT_NEAR(c.load_rel_rms, std::sqrt(sum_d / sum_f), 1e-12);
+  EXPECT_NEAR(c.volume_ratio_max_error, 0.0, 1e-15);
+}
+
+TEST(Compare, ShearUsesShearStrainAndIndentationHasNoWorkingRange) {
+  testing_support::TempDir dir("compare");
+  for (const std::string loading : {"simple_shear", "indentation"}) {
+    const bool shear = loading == "simple_shear";
+    const std::string y = shear ? "shear_stress" : "indentation_force";
+    const std::string x = shear ? "shear_strain" : "depth";
+    FileSpec f;
+    f.solver = "fem";
+    f.test = loading;
+    f.columns = {x, y};
+    f.times = times(50, 1.0);
+    f.value = [&](const std::string& c, double t) { return c == x ? t : 2.0 * t + 0.5; };
+    FileSpec m = f;
+    m.solver = "msd";
+    m.value = [&](const std::string& c, double t) { return c == x ? t : 0.8 * (2.0 * t + 0.5); };
+    write(dir.file(loading + "_fem.h5"), f);
+    write(dir.file(loading + "_msd.h5"), m);
+    const bench::Comparison c =
+        bench::compare_results(dir.file(loading + "_msd.h5"), dir.file(loading + "_fem.h5"));
+    EXPECT_EQ(c.load_series, y);
+    EXPECT_NEAR(c.load_rel_rms, 0.2, 1e-12) << loading;
+    if (shear) {
+      EXPECT_EQ(c.units, "Pa");
+      EXPECT_NEAR(c.load_rel_rms_working, 0.2, 1e-12);
+    } else {
+      EXPECT_EQ(c.units, "N");
+      EXPECT_TRUE(std::isnan(c.load_rel_rms_working)) << "indentation has no strain working range";
+    }
+    // No volume series in either file: the volume metric stays undefined.
+    EXPECT_TRUE(std::isnan(c.volume_ratio_max_error));
+  }
+}
+
+TEST(Compare, StaticLoadingJudgesTheTipComponentTheFemMovesMost) {
+  testing_support::TempDir dir("compare");
+  FileSpec f;
+  f.solver = "fem";
+  f.test = "static";
+  f.columns = {"load_factor", "tip_displacement_x", "tip_displacement_y", "tip_displacement_z"};
+  f.times = times(10, 1.0);
+  f.value = [](const std::string& c, double t) {
+    if (c == "load_factor") return t;
+    if (c == "tip_displacement_y") return -0.03 * t;  // the largest
+    return 0.001 * t;
+  };
+  FileSpec m = f;
+  m.solver = "msd";
+  m.value = [](const std::string& c, double t) {
+    if (c == "load_factor") return t;
+    if (c == "tip_displacement_y") return -0.033 * t;
+    return 0.5 * t;  // wildly off in x and z, which are not judged
+  };
+  write(dir.file("fem.h5"), f);
+  write(dir.file("msd.h5"), m);
+  const bench::Comparison c = bench::compare_results(dir.file("msd.h5"), dir.file("fem.h5"));
+  EXPECT_EQ(c.load_series, "tip_displacement_y");
+  EXPECT_EQ(c.units, "m");
+  EXPECT_NEAR(c.load_rel_rms, 0.1, 1e-12);
+}
+
+TEST(Compare, VibrationFrequencyAndDampingErrorsComeFromTheMetrics) {
+  testing_support::TempDir dir("compare");
+  FileSpec f;
+  f.solver = "fem";
+  f.test = "vibration";
+  f.columns = {"tip_displacement"};
+  f.times = times(100, 1.0);
+  f.value = [](const std::string&, double t) { return 0.01 * std::exp(-t) * std::cos(20.0 * t); };
+  f.metrics = {{"first_frequency", 4.0}, {"damping_ratio", 0.05}};
+  FileSpec m = f;
+  m.solver = "msd";
+  m.metrics = {{"first_frequency", 4.4}, {"damping_ratio", 0.02}};
+  write(dir.file("fem.h5"), f);
+  write(dir.file("msd.h5"), m);
+  const bench::Comparison c = bench::compare_results(dir.file("msd.h5"), dir.file("fem.h5"));
+  EXPECT_NEAR(c.load_rel_rms, 0.0, 1e-15);
+  EXPECT_NEAR(c.frequency_rel_error, 0.1, 1e-12);
+  EXPECT_NEAR(c.damping_ratio_abs_error, -0.03, 1e-12);
+}
+
+TEST(Compare, DisplacementFieldRelativeToTheLargestFemDisplacementSkippingProbesOutside) {
+  testing_support::TempDir dir("compare");
+  const std::vector<std::array<double, 3>> points{{0, 0, 0}, {0.01, 0, 0}, {0, 0.01, 0}, {0, 0, 0.01}};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // FEM: two frames; the last probe lies outside the FEM mesh (NaN).
+  const std::vector<std::vector<std::array<double, 3>>> uf{
+      {{0, 0, 0.001}, {0, 0, 0.002}, {0, 0, 0.001}, {nan, nan, nan}},
+      {{0, 0, 0.002}, {0, 0, 0.004}, {0, 0, 0.002}, {nan, nan, nan}}};
+  // MSD: off by 0.0003 m in x at every compared node of the second frame only.
+  std::vector<std::vector<std::array<double, 3>>> um = uf;
+  for (auto& u : um[0]) u = {u[0] == u[0] ? u[0] : 0.0, u[1] == u[1] ? u[1] : 0.0, u[2] == u[2] ? u[2] : 0.0};
+  for (auto& u : um[1]) u = {0.0003, 0.0, u[2] == u[2] ? u[2] : 0.0};
+  // An MSD frame at a time the FEM did not record is ignored.
+  const std::vector<double> tm{0.5, 0.75, 1.0}, tf{0.5, 1.0};
+  {
+    bench::RunMeta meta;
+    meta.solver = "fem";
+    meta.spec_name = "synthetic";
+    meta.text = {{"test", "uniaxial (bonded platens)"}};
+    bench::ResultsWriter w(dir.file("fem.h5"), meta, {{"time", "s"}, {"strain", "-"}, {"nominal_stress", "Pa"}});
+    for (double t : tf) w.append({t, 0.1 * t, 100.0 * t});
+    w.add_point_set("probes", points);
+    for (size_t k = 0; k < tf.size(); ++k) w.append_frame("probes", tf[k], uf[k]);
+    w.set_timing(1.0, 2, 1e-3, 1);
+    w.finish();
+  }
+  {
+    bench::RunMeta meta;
+    meta.solver = "msd";
+    meta.spec_name = "synthetic";
+    meta.text = {{"test", "uniaxial (bonded platens)"}};
+    bench::ResultsWriter w(dir.file("msd.h5"), meta, {{"time", "s"}, {"strain", "-"}, {"nominal_stress", "Pa"}});
+    for (double t : tm) w.append({t, 0.1 * t, 100.0 * t});
+    w.add_point_set("nodes", points, {{0, 1, 2, 3}});
+    w.append_frame("nodes", 0.5, um[0]);
+    w.append_frame("nodes", 0.75, {{1, 1, 1}, {1, 1, 1}, {1, 1, 1}, {1, 1, 1}});
+    w.append_frame("nodes", 1.0, um[1]);
+    w.set_timing(1.0, 3, 1e-3, 1);
+    w.finish();
+  }
+  const bench::Comparison c = bench::compare_results(dir.file("msd.h5"), dir.file("fem.h5"));
+  EXPECT_EQ(c.frames_compared, 2);
+  EXPECT_EQ(c.nodes_compared, 3);
+  EXPECT_EQ(c.nodes_outside, 1);
+  // 6 node-frames, 3 of them off by 0.0003 m; the largest FEM displacement is 0.004 m.
+  EXPECT_NEAR(c.displacement_rel_rms, std::sqrt(3 * 0.0003 * 0.0003 / 6) / 0.004, 1e-12);
+  EXPECT_NEAR(c.displacement_rel_max, 0.0003 / 0.004, 1e-12);
+  // Skipping the field (an MSD run on another mesh) leaves it undefined.
+  EXPECT_TRUE(std::isnan(bench::compare_results(dir.file("msd.h5"), dir.file("fem.h5"), false).displacement_rel_rms));
+}
+
+TEST(Compare, RefusesSwappedSolversIncompleteRunsAndDifferentTests) {
+  testing_support::TempDir dir("compare");
+  write(dir.file("fem.h5"), uniaxial_fem());
+  FileSpec m = uniaxial_fem();
+  m.solver = "msd";
+  write(dir.file("msd.h5"), m);
+  auto message = [&](const std::string& a, const std::string& b) -> std::string {
+    try {
+      bench::compare_results(dir.file(a), dir.file(b));
+    } catch (const msd::Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_NE(message("fem.h5", "msd.h5").find("expected a results file of the msd solver"), std::string::npos);
+  EXPECT_NE(message("missing.h5", "fem.h5").find("missing.h5"), std::string::npos);
+
+  FileSpec running = m;
+  running.finish = false;
+  write(dir.file("running.h5"), running);
+  EXPECT_NE(message("running.h5", "fem.h5").find("not complete"), std::string::npos) << message("running.h5", "fem.h5");
+
+  FileSpec shear = m;
+  shear.test = "simple_shear";
+  write(dir.file("shear.h5"), shear);
+  EXPECT_NE(message("shear.h5", "fem.h5").find("not the same test"), std::string::npos);
+
+  FileSpec other = m;
+  other.spec_name = "another";
+  write(dir.file("other.h5"), other);
+  EXPECT_NE(message("other.h5", "fem.h5").find("different specs"), std::string::npos);
+}
+
+TEST(Compare, JsonHoldsEveryDocumentedKeyWithNullForUndefined) {
+  testing_support::TempDir dir("compare");
+  bench::Comparison c;
+  c.spec = "s";
+  c.loading = "uniaxial";
+  c.load_rel_rms = 0.25;
+  write_comparison_json(c, dir.file("c.json"));
+  std::ifstream in(dir.file("c.json"));
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string j = text.str();
+  for (const char* key :
+       {"spec", "loading", "load_series", "units", "points", "load_rms_fem", "load_rel_rms", "load_rel_rms_working",
+        "load_max_abs_error", "volume_ratio_max_error", "displacement_rel_rms", "displacement_rel_max",
+        "nodes_compared", "nodes_outside", "frames_compared", "frequency_msd", "frequency_fem", "frequency_rel_error",
+        "damping_ratio_msd", "damping_ratio_fem", "damping_ratio_abs_error", "msd_cost", "fem_cost", "cost_ratio"})
+    EXPECT_NE(j.find("\"" + std::string(key) + "\":"), std::string::npos) << key;
+  EXPECT_NE(j.find("\"load_rel_rms\": 0.25"), std::string::npos) << j;
+  EXPECT_NE(j.find("\"load_rel_rms_working\": null"), std::string::npos) << j;
+}
