@@ -25,7 +25,7 @@ const MsdSpec& msd_section(const Spec& spec) {
 msd::TriangleMesh make_surface(const GeometrySpec& g) {
   if (g.shape == "cylinder") return msd::make_cylinder(g.radius, g.height, g.segments);
   if (g.shape == "box") return msd::make_box(msd::Vec3::Zero(), g.size);
-  if (g.shape == "obj") return msd::read_obj(g.file);
+  if (g.shape == "obj") return msd::read_surface(g.file);  // .obj, .stl or .ply
   if (g.shape == "cooks_membrane")
     throw msd::Error("geometry.shape: cooks_membrane is a plane-strain benchmark for the fem solver only");
   throw msd::Error("geometry.shape: unsupported shape '" + g.shape + "'");

@@ -44,6 +44,23 @@ TriangleMesh make_box(const Vec3& lo, const Vec3& hi);
 /// records ignored). Errors name the file and line.
 TriangleMesh read_obj(const std::string& path);
 
+/// Reads an STL file, ASCII (`solid` ... `facet` ... `vertex x y z`) or binary
+/// (80-byte header, triangle count, 50 bytes per triangle; recognised by its
+/// size). STL stores each triangle's corners separately: corners with exactly
+/// equal coordinates are merged into one vertex so the surface can be checked
+/// for closure. Errors name the file and the line (ASCII) or triangle (binary).
+TriangleMesh read_stl(const std::string& path);
+
+/// Reads a PLY file (`ascii`, `binary_little_endian` or `binary_big_endian`
+/// 1.0): the `vertex` element's x, y, z properties (any numeric type; other
+/// properties skipped) and the `face` element's vertex index list
+/// (`vertex_indices` or `vertex_index`; polygons fan-triangulated). Errors name
+/// the file and the header line, or the element and its index.
+TriangleMesh read_ply(const std::string& path);
+
+/// Reads a surface by its extension: .obj, .stl or .ply (case-insensitive).
+TriangleMesh read_surface(const std::string& path);
+
 /// Writes `mesh` as OBJ (vertices with 17 significant digits).
 void write_obj(const std::string& path, const TriangleMesh& mesh);
 
