@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -292,6 +293,7 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
   s.min_volume_ratio = 1e300;
   s.max_volume_ratio = -1e300;
   const auto start = std::chrono::steady_clock::now();
+  const std::clock_t cpu_start = std::clock();
   const double end = p.path.end_time();
   // Column positions of the summary quantities, where the loading has them.
   auto column = [&](const char* name) {
@@ -369,6 +371,7 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
     out.set_metric("zero_crossings", rd.crossings);
   }
   out.set_timing(s.wall_seconds, s.steps, p.stepping.dt, 1);
+  out.set_timing_detail("cpu_seconds", static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC);
   // Memory of the run: the process peak and the peak above the resident size
   // before the model was built (the model, its state and the results buffers).
   const double hwm = proc_status_mb("VmHWM");

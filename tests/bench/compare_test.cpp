@@ -27,6 +27,7 @@ struct FileSpec {
   /// value of column c at time t
   std::function<double(const std::string&, double)> value;
   double wall_seconds = 1.0;
+  double cpu_seconds = -1.0;  ///< recorded when >= 0
   std::map<std::string, double> metrics;
   bool finish = true;
 };
@@ -47,6 +48,7 @@ void write(const std::string& path, const FileSpec& s) {
     w.append(row);
   }
   w.set_timing(s.wall_seconds, static_cast<long>(s.times.size()), 1e-3, 1);
+  if (s.cpu_seconds >= 0) w.set_timing_detail("cpu_seconds", s.cpu_seconds);
   for (const auto& [k, v] : s.metrics) w.set_metric(k, v);
   if (s.finish) w.finish();
 }
@@ -111,7 +113,8 @@ TEST(Compare, UniformRelativeErrorVolumeErrorAndCostsOnAFinerMsdSampling) {
   EXPECT_NEAR(c.volume_ratio_max_error, 0.05, 1e-12);
   EXPECT_NEAR(c.msd_cost, 2.0, 1e-12);
   EXPECT_NEAR(c.fem_cost, 8.0, 1e-12);
-  EXPECT_NEAR(c.cost_ratio, 0.25, 1e-12);
+  EXPECT_NEAR(c.cost_ratio, 0.25, 1e-12);  // no CPU times recorded: the wall-time ratio
+  EXPECT_TRUE(std::isnan(c.msd_cpu_cost));
   // No field data, no vibration: those metrics stay undefined, not zero.
   EXPECT_TRUE(std::isnan(c.displacement_rel_rms));
   EXPECT_TRUE(std::isnan(c.frequency_rel_error));
@@ -119,6 +122,25 @@ TEST(Compare, UniformRelativeErrorVolumeErrorAndCostsOnAFinerMsdSampling) {
   const std::string table = bench::format_comparison(c);
   EXPECT_NE(table.find("relative RMS error"), std::string::npos) << table;
   EXPECT_NE(table.find("10 %"), std::string::npos) << table;
+}
+
+TEST(Compare, CostRatioIsInCpuTimeWhenBothRunsRecordIt) {
+  // The MSD run shared its core with another job: wall time doubled, CPU time did not.
+  testing_support::TempDir dir("compare");
+  FileSpec f = uniaxial_fem();
+  f.cpu_seconds = 7.5;
+  write(dir.file("fem.h5"), f);
+  FileSpec m = uniaxial_fem();
+  m.solver = "msd";
+  m.wall_seconds = 4.0;
+  m.cpu_seconds = 1.5;
+  write(dir.file("msd.h5"), m);
+  const bench::Comparison c = bench::compare_results(dir.file("msd.h5"), dir.file("fem.h5"));
+  EXPECT_NEAR(c.msd_cost, 4.0, 1e-12);
+  EXPECT_NEAR(c.msd_cpu_cost, 1.5, 1e-12);
+  EXPECT_NEAR(c.fem_cpu_cost, 7.5, 1e-12);
+  EXPECT_NEAR(c.cost_ratio, 0.2, 1e-12);
+  EXPECT_NE(bench::format_comparison(c).find("in CPU time"), std::string::npos);
 }
 
 TEST(Compare, WorkingRangeKeepsOnlyStrainsWithinPointFour) {
@@ -335,7 +357,8 @@ TEST(Compare, JsonHoldsEveryDocumentedKeyWithNullForUndefined) {
        {"spec", "loading", "load_series", "units", "points", "load_rms_fem", "load_rel_rms", "load_rel_rms_working",
         "load_max_abs_error", "volume_ratio_max_error", "displacement_rel_rms", "displacement_rel_max",
         "nodes_compared", "nodes_outside", "frames_compared", "frequency_msd", "frequency_fem", "frequency_rel_error",
-        "damping_ratio_msd", "damping_ratio_fem", "damping_ratio_abs_error", "msd_cost", "fem_cost", "cost_ratio"})
+        "damping_ratio_msd", "damping_ratio_fem", "damping_ratio_abs_error", "msd_cost", "fem_cost", "msd_cpu_cost",
+        "fem_cpu_cost", "cost_ratio"})
     EXPECT_NE(j.find("\"" + std::string(key) + "\":"), std::string::npos) << key;
   EXPECT_NE(j.find("\"load_rel_rms\": 0.25"), std::string::npos) << j;
   EXPECT_NE(j.find("\"load_rel_rms_working\": null"), std::string::npos) << j;

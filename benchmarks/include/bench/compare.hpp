@@ -33,11 +33,15 @@ struct Comparison {
   double damping_ratio_msd = std::numeric_limits<double>::quiet_NaN();
   double damping_ratio_fem = std::numeric_limits<double>::quiet_NaN();
   double damping_ratio_abs_error = std::numeric_limits<double>::quiet_NaN();
-  /// Cost of each run (wall s per simulated s, from the files' /timing) and
-  /// their ratio msd / fem - a speed figure both solvers measured on the same
-  /// machine (in the same process for `run --solver both`).
+  /// Cost of each run (wall s per simulated s, from the files' /timing).
   double msd_cost = std::numeric_limits<double>::quiet_NaN();
   double fem_cost = std::numeric_limits<double>::quiet_NaN();
+  /// The same in CPU seconds of the solving process (/timing/cpu_seconds).
+  double msd_cpu_cost = std::numeric_limits<double>::quiet_NaN();
+  double fem_cpu_cost = std::numeric_limits<double>::quiet_NaN();
+  /// msd / fem: a speed figure both solvers measured on the same machine, in
+  /// CPU time when both files record it (another job sharing the cores
+  /// stretches wall time, not CPU time), else in wall time.
   double cost_ratio = std::numeric_limits<double>::quiet_NaN();
 };
 
