@@ -1,0 +1,60 @@
+// The physical and visible layers of a limb from its surfaces (thesis 4.5, 5.5):
+// validate the skin and the internal surfaces (closed, manifold, oriented,
+// nested), lay a cubic grid of chosen spacing and orientation, label the cubes
+// by region with erosion and bone points (regions.hpp), split them into five
+// tets each, and embed every vertex of every surface in the tets.
+#pragma once
+
+#include "msd/geometry/triangle_mesh.hpp"
+#include "msd/mesh/cubic_grid.hpp"
+#include "msd/mesh/embedding.hpp"
+#include "msd/mesh/regions.hpp"
+
+#include <map>
+#include <optional>
+#include <string>
+
+namespace msd {
+
+/// Human-readable region names used in messages and outputs:
+/// passive_tissue, front_muscle, back_muscle, upper_bone, lower_bone.
+std::string region_name(int region);
+
+/// The limb's surfaces: the skin and any of the four internal regions.
+struct LimbSurfaces {
+  TriangleMesh skin;
+  std::map<int, TriangleMesh> inner;  ///< region -> closed surface
+  std::map<int, std::string> source;  ///< region (kPassiveTissue = skin) -> file, for messages
+};
+
+struct LimbMeshOptions {
+  double spacing = 0.0;                    ///< cube edge h, m
+  Vec3 rotation_deg{Vec3::Zero()};         ///< grid orientation: rotations about x, then y, then z (degrees)
+  std::optional<Vec3> origin;              ///< grid origin in the rotated frame (default: the skin's lowest corner)
+  CubeRule rule = CubeRule::Centre;
+  long max_cubes = kDefaultMaxCubes;
+};
+
+struct LimbMesh {
+  TetMesh mesh;                              ///< nodes in the surfaces' frame, tets labelled by region
+  CubicGrid grid;                            ///< in the rotated frame
+  Mat3 rotation{Mat3::Identity()};           ///< rotated frame = rotation * surfaces' frame
+  RegionLabelling labels;
+  std::vector<std::pair<int, int>> bone_points;  ///< (mesh node, bone region)
+  long cubes = 0;
+  std::map<int, long> tets_by_region;
+  std::map<int, Embedding> embedded;         ///< region (kPassiveTissue = skin) -> its surface's vertices
+};
+
+/// Throws msd::Error naming the region (and its file) and the fault: a surface
+/// that is not closed, manifold and outward-oriented; an internal surface with
+/// a vertex outside the skin; two muscles or two bones that overlap (one's
+/// vertex inside the other). A bone overlapping a muscle is allowed: erosion
+/// resolves it (thesis figure 4.7).
+void validate_limb(const LimbSurfaces& surfaces);
+
+/// Validates, meshes and embeds. Throws msd::Error for bad options or when no
+/// cube lies in the skin.
+LimbMesh mesh_limb(const LimbSurfaces& surfaces, const LimbMeshOptions& options);
+
+}  // namespace msd
