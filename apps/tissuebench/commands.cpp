@@ -7,6 +7,7 @@
 #include "bench/convergence.hpp"
 #include "bench/fem_runner.hpp"
 #include "bench/guard.hpp"
+#include "bench/leg_mesh.hpp"
 #include "bench/msd_runner.hpp"
 #include "bench/results_file.hpp"
 #include "bench/series_tools.hpp"
@@ -392,6 +393,14 @@ int cmd_converge(const ConvergeArgs& args) {
   std::printf("observed order %.3f; estimated RMS error of the finest level %.4g %s (%.3g %% of max |value|)\n",
               st.observed_order, st.finest_error, st.units.c_str(), 100.0 * st.finest_relative_error);
   std::printf("study: %s\n", json.c_str());
+  return 0;
+}
+
+int cmd_mesh(const MeshArgs& args) {
+  if (!root()) return 0;
+  const bench::LegMeshSummary s = bench::mesh_leg_scene(args.scene, args.out);
+  std::printf("%s", bench::format_leg_mesh_summary(s).c_str());
+  std::printf("written: %s/mesh.vtu, bone_points.vtu, surfaces/*.vtu, summary.json\n", args.out.c_str());
   return 0;
 }
 

@@ -74,6 +74,12 @@ struct CheckArgs {
 /// of what moved; --update rewrites the baseline and says what changed.
 int cmd_check(const CheckArgs& args);
 
+struct MeshArgs {
+  std::string scene, out = "mesh";
+};
+/// Meshes a limb scene's surfaces (tissuebench mesh SCENE.yaml --out DIR).
+int cmd_mesh(const MeshArgs& args);
+
 /// The specs of the default suite (the thesis' three uni-axial experiments).
 std::vector<std::string> default_suite();
 

@@ -52,6 +52,15 @@ int main(int argc, char** argv) {
   auto* inspect_cmd = cli.add_subcommand("inspect", "Mesh a specification and print its counts and constants");
   inspect_cmd->add_option("spec", inspect.spec, "Test specification (YAML)")->required()->check(CLI::ExistingFile);
 
+  app::MeshArgs mesh;
+  auto* mesh_cmd = cli.add_subcommand(
+      "mesh", "Mesh a limb from its surfaces (skin, bones, muscles as OBJ/STL/PLY): regions, erosion, bone points, "
+              "embedded surfaces; writes VTU files for ParaView and summary.json");
+  mesh_cmd->add_option("scene", mesh.scene, "Scene file (YAML; see benchmarks/include/bench/leg_mesh.hpp)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  mesh_cmd->add_option("--out", mesh.out, "Output folder")->capture_default_str();
+
   app::ConvergeArgs converge;
   auto* converge_cmd = cli.add_subcommand(
       "converge", "Refinement study of the FEM reference: observed order and error estimate of the finest level");
@@ -167,6 +176,7 @@ int main(int argc, char** argv) {
     if (*run_cmd) return app::cmd_run(run);
     if (*suite_cmd) return app::cmd_suite(suite);
     if (*inspect_cmd) return app::cmd_inspect(inspect);
+    if (*mesh_cmd) return app::cmd_mesh(mesh);
     if (*converge_cmd) return app::cmd_converge(converge);
     if (*compare_cmd) return app::cmd_compare(compare);
     if (*calibrate_cmd) return app::cmd_calibrate(calibrate);

@@ -376,3 +376,56 @@ TEST(Cli, SuiteBadTierOrSpecIsAnInputErrorBeforeAnythingRuns) {
   EXPECT_NE(b.output.find("mesh.spasing: unknown field"), std::string::npos) << b.output;
   EXPECT_FALSE(std::filesystem::exists(dir.file("out")));
 }
+
+TEST(Cli, MeshWritesTheLimbForParaViewAndRefusesBadScenesByName) {
+  testing_support::TempDir dir("cli_mesh");
+  // A cylindrical limb: skin, a femur, a tibia reaching the skin's end, and a
+  // muscle in front of and behind the femur.
+  auto moved = [](msd::TriangleMesh m, const msd::Vec3& by) {
+    m.vertices.colwise() += by;
+    return m;
+  };
+  msd::write_obj(dir.file("skin.obj"), msd::make_cylinder(0.05, 0.30, 48));
+  msd::write_obj(dir.file("femur.obj"), moved(msd::make_cylinder(0.012, 0.12, 16), {0, 0, 0.165}));
+  msd::write_obj(dir.file("tibia.obj"), moved(msd::make_cylinder(0.012, 0.13, 16), {0, 0, 0.005}));
+  msd::write_obj(dir.file("quad.obj"), msd::make_box({-0.025, 0.018, 0.17}, {0.025, 0.042, 0.28}));
+  msd::write_obj(dir.file("ham.obj"), msd::make_box({-0.025, -0.042, 0.17}, {0.025, -0.018, 0.28}));
+  const std::string scene = R"(name: cylinder_leg
+leg: {skin: skin.obj, upper_bone: femur.obj, lower_bone: tibia.obj, front_muscle: quad.obj, back_muscle: ham.obj}
+mesh: {spacing: 0.01, rotation: [0, 0, 10]}
+)";
+  std::ofstream(dir.file("leg.yaml")) << scene;
+  const Result r = sh("mesh " + dir.file("leg.yaml") + " --out " + dir.file("out"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("bone points"), std::string::npos) << r.output;
+  for (const char* f : {"mesh.vtu", "bone_points.vtu", "surfaces/skin.vtu", "surfaces/upper_bone.vtu",
+                        "surfaces/back_muscle.vtu", "summary.json"})
+    EXPECT_TRUE(std::filesystem::exists(dir.file("out/" + std::string(f)))) << f;
+  const std::string summary = slurp(dir.file("out/summary.json"));
+  for (const char* key : {"\"cubes\"", "\"tets\"", "\"tets_by_region\"", "\"bone_points\"", "\"tendon_strands\"",
+                          "\"embedded_vertices\"", "\"embedded_outside\"", "\"min_quality\"", "\"seconds\""})
+    EXPECT_NE(summary.find(key), std::string::npos) << key << "\n" << summary;
+  EXPECT_NE(summary.find("\"front_muscle\": "), std::string::npos);
+  // The printed counts are the summary's.
+  const size_t at = summary.find("\"tets\": ");
+  const std::string tets = summary.substr(at + 8, summary.find(',', at) - at - 8);
+  EXPECT_NE(r.output.find("tets               " + tets), std::string::npos) << r.output;
+
+  // Bad scenes: a field name, a missing file, a bone outside the skin.
+  std::ofstream(dir.file("typo.yaml")) << replaced(scene, "spacing", "spaceing");
+  Result bad = sh("mesh " + dir.file("typo.yaml") + " --out " + dir.file("bad"));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.output.find("spaceing"), std::string::npos) << bad.output;
+  std::ofstream(dir.file("missing.yaml")) << replaced(scene, "ham.obj", "nothing.stl");
+  bad = sh("mesh " + dir.file("missing.yaml") + " --out " + dir.file("bad"));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.output.find("leg.back_muscle"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("no such file"), std::string::npos) << bad.output;
+  msd::write_obj(dir.file("long_femur.obj"), moved(msd::make_cylinder(0.012, 0.2, 16), {0, 0, 0.165}));
+  std::ofstream(dir.file("outside.yaml")) << replaced(scene, "femur.obj", "long_femur.obj");
+  bad = sh("mesh " + dir.file("outside.yaml") + " --out " + dir.file("bad"));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.output.find("upper_bone (" + dir.file("long_femur.obj") + "): vertex"), std::string::npos)
+      << bad.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("bad/summary.json")));
+}

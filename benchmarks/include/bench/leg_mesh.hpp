@@ -1,0 +1,42 @@
+// `tissuebench mesh SCENE.yaml --out DIR`: a limb's surfaces (the user's OBJ,
+// STL or PLY files) meshed into the physical layer and embedded, written for
+// ParaView with a summary. The scene's geometry part:
+//
+//   name: my_leg
+//   leg:                          # files relative to the scene's folder
+//     skin: skin.obj              # required
+//     upper_bone: femur.stl       # optional, each of the four
+//     lower_bone: tibia.ply
+//     front_muscle: quadriceps.obj
+//     back_muscle: hamstrings.obj
+//   mesh:
+//     spacing: 0.025              # m, required
+//     rotation: [0, 0, 0]         # grid orientation, degrees about x, y, z
+//     rule: centre                # centre | inside | overlap
+//
+// Output (DIR): mesh.vtu (tets; cell data region; point data bone_point = the
+// bone's region or -1), bone_points.vtu, surfaces/NAME.vtu (each surface at
+// rest with its embedding: tet and distance per vertex), summary.json.
+#pragma once
+
+#include <map>
+#include <string>
+
+namespace bench {
+
+struct LegMeshSummary {
+  long cubes = 0, tets = 0, nodes = 0, bone_points = 0, tendon_strands = 0;
+  std::map<std::string, long> tets_by_region;
+  long embedded_vertices = 0, embedded_outside = 0;
+  double max_outside_distance = 0.0, min_quality = 0.0, seconds = 0.0;
+};
+
+/// Reads the scene, meshes and writes DIR. Throws msd::Error naming the scene
+/// file and field, or the surface file and fault; nothing is left in DIR that
+/// looks complete when it fails (summary.json is written last).
+LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& out_dir);
+
+/// The summary as printed by the command.
+std::string format_leg_mesh_summary(const LegMeshSummary& s);
+
+}  // namespace bench

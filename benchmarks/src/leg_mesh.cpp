@@ -1,0 +1,176 @@
+#include "bench/leg_mesh.hpp"
+
+#include "bench/series_tools.hpp"
+#include "bench/yaml_fields.hpp"
+#include "msd/io/vtu.hpp"
+#include "msd/mesh/limb_mesher.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace bench {
+
+namespace {
+
+const std::map<std::string, int> kRegions{{"upper_bone", msd::kUpperBone},
+                                          {"lower_bone", msd::kLowerBone},
+                                          {"front_muscle", msd::kFrontMuscle},
+                                          {"back_muscle", msd::kBackMuscle}};
+
+msd::VtuGrid surface_grid(const msd::TriangleMesh& m, const msd::Embedding& e) {
+  msd::VtuGrid g;
+  g.points = m.vertices;
+  for (const auto& t : m.triangles) {
+    g.cells.push_back({t[0], t[1], t[2]});
+    g.types.push_back(msd::kVtkTriangle);
+  }
+  auto& tet = g.point_data["tet"];
+  auto& dist = g.point_data["outside_distance"];
+  for (const auto& v : e.vertices) {
+    tet.push_back(v.tet);
+    dist.push_back(v.distance);
+  }
+  return g;
+}
+
+}  // namespace
+
+LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& out_dir) {
+  const auto start = std::chrono::steady_clock::now();
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(scene_file);
+  } catch (const YAML::BadFile&) {
+    throw msd::Error(scene_file + ": cannot read the scene file");
+  } catch (const YAML::Exception& e) {
+    throw msd::Error(scene_file + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
+                     ": YAML syntax error: " + e.msg);
+  }
+  if (!root || !root.IsMap()) throw msd::Error(scene_file + ": the scene must be a YAML mapping");
+  const Fields f(root, "", scene_file);
+  f.only({"name", "description", "leg", "mesh"});
+  const Fields leg = f.section("leg");
+  leg.only({"skin", "upper_bone", "lower_bone", "front_muscle", "back_muscle"});
+  const fs::path folder = fs::path(scene_file).parent_path();
+  auto file_of = [&](const std::string& key) {
+    const fs::path p(leg.text(key));
+    const fs::path full = p.is_absolute() ? p : folder / p;
+    if (!fs::exists(full)) throw msd::Error(leg.where(key) + "no such file: " + full.string());
+    return full.string();
+  };
+  msd::LimbSurfaces surfaces;
+  surfaces.source[msd::kPassiveTissue] = file_of("skin");
+  surfaces.skin = msd::read_surface(surfaces.source[msd::kPassiveTissue]);
+  for (const auto& [key, region] : kRegions)
+    if (leg.has(key)) {
+      surfaces.source[region] = file_of(key);
+      surfaces.inner[region] = msd::read_surface(surfaces.source[region]);
+    }
+  const Fields mesh = f.section("mesh");
+  mesh.only({"spacing", "rotation", "rule", "origin"});
+  msd::LimbMeshOptions o;
+  o.spacing = mesh.number("spacing");
+  if (!(o.spacing > 0.0)) throw msd::Error(mesh.where("spacing") + "must be a positive length (m)");
+  if (mesh.has("rotation")) {
+    const auto r = mesh.number_list("rotation");
+    if (r.size() != 3) throw msd::Error(mesh.where("rotation") + "needs three angles in degrees [x, y, z]");
+    o.rotation_deg = msd::Vec3(r[0], r[1], r[2]);
+  }
+  if (mesh.has("origin")) {
+    const auto r = mesh.number_list("origin");
+    if (r.size() != 3) throw msd::Error(mesh.where("origin") + "needs three coordinates (m)");
+    o.origin = msd::Vec3(r[0], r[1], r[2]);
+  }
+  try {
+    o.rule = msd::parse_cube_rule(mesh.text_or("rule", "centre"));
+  } catch (const msd::Error& e) {
+    throw msd::Error(mesh.where("rule") + e.what());
+  }
+
+  const msd::LimbMesh m = msd::mesh_limb(surfaces, o);
+
+  // Outputs: everything else first, summary.json last.
+  fs::create_directories(fs::path(out_dir) / "surfaces");
+  fs::remove(fs::path(out_dir) / "summary.json");
+  msd::VtuGrid tets;
+  tets.points = m.mesh.nodes;
+  for (size_t e = 0; e < m.mesh.tets.size(); ++e) {
+    const auto& t = m.mesh.tets[e];
+    tets.cells.push_back({t[0], t[1], t[2], t[3]});
+    tets.types.push_back(msd::kVtkTetra);
+    tets.cell_data["region"].push_back(m.mesh.region[e]);
+  }
+  auto& bp = tets.point_data["bone_point"];
+  bp.assign(static_cast<size_t>(m.mesh.num_nodes()), -1.0);
+  msd::VtuGrid points;
+  points.points.resize(3, static_cast<Eigen::Index>(m.bone_points.size()));
+  for (size_t i = 0; i < m.bone_points.size(); ++i) {
+    bp[static_cast<size_t>(m.bone_points[i].first)] = m.bone_points[i].second;
+    points.points.col(static_cast<Eigen::Index>(i)) = m.mesh.nodes.col(m.bone_points[i].first);
+    points.cells.push_back({static_cast<int>(i)});
+    points.types.push_back(msd::kVtkVertex);
+    points.cell_data["region"].push_back(m.bone_points[i].second);
+  }
+  msd::write_vtu((fs::path(out_dir) / "mesh.vtu").string(), tets);
+  msd::write_vtu((fs::path(out_dir) / "bone_points.vtu").string(), points);
+
+  LegMeshSummary s;
+  for (const auto& [r, e] : m.embedded) {
+    const msd::TriangleMesh& surface = r == msd::kPassiveTissue ? surfaces.skin : surfaces.inner.at(r);
+    const std::string name = r == msd::kPassiveTissue ? "skin" : msd::region_name(r);
+    msd::write_vtu((fs::path(out_dir) / "surfaces" / (name + ".vtu")).string(), surface_grid(surface, e));
+    s.embedded_vertices += static_cast<long>(e.vertices.size());
+    s.embedded_outside += e.outside;
+    s.max_outside_distance = std::max(s.max_outside_distance, e.max_outside_distance);
+  }
+  s.cubes = m.cubes;
+  s.tets = m.mesh.num_tets();
+  s.nodes = m.mesh.num_nodes();
+  s.bone_points = static_cast<long>(m.bone_points.size());
+  for (int r : {msd::kPassiveTissue, msd::kFrontMuscle, msd::kBackMuscle, msd::kUpperBone, msd::kLowerBone})
+    s.tets_by_region[msd::region_name(r)] = m.tets_by_region.count(r) ? m.tets_by_region.at(r) : 0;
+  s.min_quality = msd::min_quality(m.mesh);
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  const std::string summary = (fs::path(out_dir) / "summary.json").string();
+  {
+    std::ofstream out(summary + ".partial");
+    out << "{\n  \"scene\": " << json_string(scene_file) << ",\n  \"spacing\": " << json_number(o.spacing)
+        << ",\n  \"cubes\": " << s.cubes << ",\n  \"tets\": " << s.tets << ",\n  \"nodes\": " << s.nodes
+        << ",\n  \"tets_by_region\": {";
+    bool first = true;
+    for (const auto& [k, v] : s.tets_by_region) {
+      out << (first ? "" : ", ") << json_string(k) << ": " << v;
+      first = false;
+    }
+    out << "},\n  \"bone_points\": " << s.bone_points << ",\n  \"tendon_strands\": " << s.tendon_strands
+        << ",\n  \"embedded_vertices\": " << s.embedded_vertices << ",\n  \"embedded_outside\": " << s.embedded_outside
+        << ",\n  \"max_outside_distance\": " << json_number(s.max_outside_distance)
+        << ",\n  \"min_quality\": " << json_number(s.min_quality) << ",\n  \"seconds\": " << json_number(s.seconds)
+        << "\n}\n";
+    if (!out) throw msd::Error(summary + ": write failed");
+  }
+  fs::rename(summary + ".partial", summary);
+  return s;
+}
+
+std::string format_leg_mesh_summary(const LegMeshSummary& s) {
+  std::ostringstream o;
+  o << "cubes              " << s.cubes << "\ntets               " << s.tets << " (";
+  bool first = true;
+  for (const auto& [k, v] : s.tets_by_region) {
+    o << (first ? "" : ", ") << k << " " << v;
+    first = false;
+  }
+  o << ")\nnodes              " << s.nodes << "\nbone points        " << s.bone_points << "\ntendon strands     "
+    << s.tendon_strands << "\nembedded vertices  " << s.embedded_vertices << " (" << s.embedded_outside
+    << " outside the tets, at most " << s.max_outside_distance * 1e3 << " mm away)\nmin quality        "
+    << s.min_quality << "\nseconds            " << s.seconds << "\n";
+  return o.str();
+}
+
+}  // namespace bench
