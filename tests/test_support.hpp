@@ -3,6 +3,7 @@
 #pragma once
 
 #include "msd/core/types.hpp"
+#include "msd/mesh/limb_mesher.hpp"
 #include "msd/mesh/tet_mesh.hpp"
 
 #include <filesystem>
@@ -63,6 +64,23 @@ msd: {constants: physical, repulsion_factor: 0.1, volume_factor: 0.5, dt: 1.0e-4
 loading: {type: uniaxial, path: [[0, 0], [0.2, -0.1], [0.4, 0.1]]}
 output: {interval: 0.02}
 )";
+}
+
+/// A cylindrical "limb" (radius 5 cm, 30 cm long, axis z from the origin) with
+/// a bone in each half (the lower one reaching within 5 mm of the skin's end)
+/// and a muscle in front of (+y) and behind the upper bone.
+inline msd::LimbSurfaces cylinder_limb() {
+  auto moved = [](msd::TriangleMesh m, const msd::Vec3& by) {
+    m.vertices.colwise() += by;
+    return m;
+  };
+  msd::LimbSurfaces s;
+  s.skin = msd::make_cylinder(0.05, 0.30, 48);
+  s.inner[msd::kUpperBone] = moved(msd::make_cylinder(0.012, 0.12, 16), {0, 0, 0.165});
+  s.inner[msd::kLowerBone] = moved(msd::make_cylinder(0.012, 0.13, 16), {0, 0, 0.005});
+  s.inner[msd::kFrontMuscle] = msd::make_box({-0.025, 0.018, 0.17}, {0.025, 0.042, 0.28});
+  s.inner[msd::kBackMuscle] = msd::make_box({-0.025, -0.042, 0.17}, {0.025, -0.018, 0.28});
+  return s;
 }
 
 /// A fresh empty folder under the system temp dir, removed by the destructor.

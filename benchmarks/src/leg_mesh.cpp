@@ -4,6 +4,7 @@
 #include "bench/yaml_fields.hpp"
 #include "msd/io/vtu.hpp"
 #include "msd/mesh/limb_mesher.hpp"
+#include "msd/mesh/tendon_paths.hpp"
 
 #include <chrono>
 #include <filesystem>
@@ -52,7 +53,7 @@ LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& 
   }
   if (!root || !root.IsMap()) throw msd::Error(scene_file + ": the scene must be a YAML mapping");
   const Fields f(root, "", scene_file);
-  f.only({"name", "description", "leg", "mesh"});
+  f.only({"name", "description", "leg", "mesh", "tendons"});
   const Fields leg = f.section("leg");
   leg.only({"skin", "upper_bone", "lower_bone", "front_muscle", "back_muscle"});
   const fs::path folder = fs::path(scene_file).parent_path();
@@ -91,7 +92,46 @@ LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& 
     throw msd::Error(mesh.where("rule") + e.what());
   }
 
+  // Tendons: [{name, muscle, bone, strands, path: [[x, y, z], ...]}].
+  std::vector<msd::TendonPathSpec> tendon_specs;
+  if (f.has("tendons")) {
+    const YAML::Node list = root["tendons"];
+    if (!list.IsSequence()) throw msd::Error(f.where("tendons") + "must be a list of tendons");
+    for (size_t i = 0; i < list.size(); ++i) {
+      const Fields t(list[i], "tendons[" + std::to_string(i) + "]", scene_file);
+      t.only({"name", "muscle", "bone", "strands", "path"});
+      msd::TendonPathSpec spec;
+      spec.name = t.text("name");
+      const std::string muscle = t.text("muscle"), bone = t.text("bone");
+      if (muscle != "front_muscle" && muscle != "back_muscle")
+        throw msd::Error(t.where("muscle") + "'" + muscle + "' is not one of: front_muscle, back_muscle");
+      if (bone != "upper_bone" && bone != "lower_bone")
+        throw msd::Error(t.where("bone") + "'" + bone + "' is not one of: upper_bone, lower_bone");
+      spec.muscle = kRegions.at(muscle);
+      spec.bone = kRegions.at(bone);
+      if (!surfaces.inner.count(spec.muscle)) throw msd::Error(t.where("muscle") + "the leg has no " + muscle);
+      if (!surfaces.inner.count(spec.bone)) throw msd::Error(t.where("bone") + "the leg has no " + bone);
+      spec.strands = static_cast<int>(t.integer_or("strands", 6));
+      if (spec.strands < 1 || spec.strands > 64) throw msd::Error(t.where("strands") + "must be between 1 and 64");
+      const YAML::Node path = list[i]["path"];
+      if (!path || !path.IsSequence() || path.size() < 2)
+        throw msd::Error(t.where("path") + "needs at least two points [x, y, z] (m)");
+      for (size_t k = 0; k < path.size(); ++k) {
+        if (!path[k].IsSequence() || path[k].size() != 3)
+          throw msd::Error(t.where("path") + "point " + std::to_string(k) + " needs three coordinates");
+        try {
+          spec.path.emplace_back(path[k][0].as<double>(), path[k][1].as<double>(), path[k][2].as<double>());
+        } catch (const YAML::Exception&) {
+          throw msd::Error(t.where("path") + "point " + std::to_string(k) + " is not three numbers");
+        }
+      }
+      tendon_specs.push_back(spec);
+    }
+  }
+
   const msd::LimbMesh m = msd::mesh_limb(surfaces, o);
+  std::vector<msd::TendonStrands> tendons;
+  for (const auto& spec : tendon_specs) tendons.push_back(msd::route_tendon(m, spec));
 
   // Outputs: everything else first, summary.json last.
   fs::create_directories(fs::path(out_dir) / "surfaces");
@@ -117,6 +157,16 @@ LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& 
   }
   msd::write_vtu((fs::path(out_dir) / "mesh.vtu").string(), tets);
   msd::write_vtu((fs::path(out_dir) / "bone_points.vtu").string(), points);
+  msd::VtuGrid strands;
+  strands.points = m.mesh.nodes;
+  for (size_t t = 0; t < tendons.size(); ++t)
+    for (size_t k = 0; k < tendons[t].strands.size(); ++k) {
+      strands.cells.push_back(tendons[t].strands[k]);
+      strands.types.push_back(msd::kVtkPolyLine);
+      strands.cell_data["tendon"].push_back(static_cast<double>(t));
+      strands.cell_data["strand"].push_back(static_cast<double>(k));
+    }
+  msd::write_vtu((fs::path(out_dir) / "tendons.vtu").string(), strands);
 
   LegMeshSummary s;
   for (const auto& [r, e] : m.embedded) {
@@ -131,6 +181,7 @@ LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& 
   s.tets = m.mesh.num_tets();
   s.nodes = m.mesh.num_nodes();
   s.bone_points = static_cast<long>(m.bone_points.size());
+  for (const auto& t : tendons) s.tendon_strands += static_cast<long>(t.strands.size());
   for (int r : {msd::kPassiveTissue, msd::kFrontMuscle, msd::kBackMuscle, msd::kUpperBone, msd::kLowerBone})
     s.tets_by_region[msd::region_name(r)] = m.tets_by_region.count(r) ? m.tets_by_region.at(r) : 0;
   s.min_quality = msd::min_quality(m.mesh);

@@ -393,12 +393,16 @@ TEST(Cli, MeshWritesTheLimbForParaViewAndRefusesBadScenesByName) {
   const std::string scene = R"(name: cylinder_leg
 leg: {skin: skin.obj, upper_bone: femur.obj, lower_bone: tibia.obj, front_muscle: quad.obj, back_muscle: ham.obj}
 mesh: {spacing: 0.01, rotation: [0, 0, 10]}
+tendons:
+  - {name: hamstrings_lower, muscle: back_muscle, bone: lower_bone, strands: 6,
+     path: [[0, -0.03, 0.17], [0, -0.03, 0.14], [0, -0.012, 0.13]]}
 )";
   std::ofstream(dir.file("leg.yaml")) << scene;
   const Result r = sh("mesh " + dir.file("leg.yaml") + " --out " + dir.file("out"));
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("bone points"), std::string::npos) << r.output;
-  for (const char* f : {"mesh.vtu", "bone_points.vtu", "surfaces/skin.vtu", "surfaces/upper_bone.vtu",
+  EXPECT_NE(slurp(dir.file("out/summary.json")).find("\"tendon_strands\": 6"), std::string::npos);
+  for (const char* f : {"mesh.vtu", "bone_points.vtu", "tendons.vtu", "surfaces/skin.vtu", "surfaces/upper_bone.vtu",
                         "surfaces/back_muscle.vtu", "summary.json"})
     EXPECT_TRUE(std::filesystem::exists(dir.file("out/" + std::string(f)))) << f;
   const std::string summary = slurp(dir.file("out/summary.json"));
@@ -421,6 +425,10 @@ mesh: {spacing: 0.01, rotation: [0, 0, 10]}
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.output.find("leg.back_muscle"), std::string::npos) << bad.output;
   EXPECT_NE(bad.output.find("no such file"), std::string::npos) << bad.output;
+  std::ofstream(dir.file("tendon.yaml")) << replaced(scene, "bone: lower_bone", "bone: tibia");
+  bad = sh("mesh " + dir.file("tendon.yaml") + " --out " + dir.file("bad"));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.output.find("tendons[0].bone"), std::string::npos) << bad.output;
   msd::write_obj(dir.file("long_femur.obj"), moved(msd::make_cylinder(0.012, 0.2, 16), {0, 0, 0.165}));
   std::ofstream(dir.file("outside.yaml")) << replaced(scene, "femur.obj", "long_femur.obj");
   bad = sh("mesh " + dir.file("outside.yaml") + " --out " + dir.file("bad"));

@@ -13,9 +13,13 @@
 //     spacing: 0.025              # m, required
 //     rotation: [0, 0, 0]         # grid orientation, degrees about x, y, z
 //     rule: centre                # centre | inside | overlap
+//   tendons:                      # optional
+//     - {name: hamstrings_lower, muscle: back_muscle, bone: lower_bone, strands: 6,
+//        path: [[0, -0.03, 0.17], [0, -0.012, 0.13]]}   # muscle end first (m)
 //
 // Output (DIR): mesh.vtu (tets; cell data region; point data bone_point = the
-// bone's region or -1), bone_points.vtu, surfaces/NAME.vtu (each surface at
+// bone's region or -1), bone_points.vtu, tendons.vtu (one polyline per strand,
+// cell data tendon and strand), surfaces/NAME.vtu (each surface at
 // rest with its embedding: tet and distance per vertex), summary.json.
 #pragma once
 

@@ -3,6 +3,8 @@
 // orientation as an option, and every surface embedded.
 #include "msd/mesh/limb_mesher.hpp"
 
+#include "test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,15 +16,8 @@ msd::TriangleMesh moved(msd::TriangleMesh m, const msd::Vec3& by) {
   return m;
 }
 
-// A cylindrical "limb" (radius 5 cm, 30 cm long, axis z through the origin)
-// with a bone in each half and a muscle in front of and behind the upper bone.
 msd::LimbSurfaces limb() {
-  msd::LimbSurfaces s;
-  s.skin = msd::make_cylinder(0.05, 0.30, 48);
-  s.inner[msd::kUpperBone] = moved(msd::make_cylinder(0.012, 0.12, 16), {0, 0, 0.165});
-  s.inner[msd::kLowerBone] = moved(msd::make_cylinder(0.012, 0.13, 16), {0, 0, 0.005});
-  s.inner[msd::kFrontMuscle] = msd::make_box({-0.025, 0.018, 0.17}, {0.025, 0.042, 0.28});
-  s.inner[msd::kBackMuscle] = msd::make_box({-0.025, -0.042, 0.17}, {0.025, -0.018, 0.28});
+  msd::LimbSurfaces s = testing_support::cylinder_limb();
   s.source[msd::kPassiveTissue] = "skin.obj";
   s.source[msd::kUpperBone] = "femur.stl";
   return s;
