@@ -72,7 +72,7 @@ LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& 
       surfaces.inner[region] = msd::read_surface(surfaces.source[region]);
     }
   const Fields mesh = f.section("mesh");
-  mesh.only({"spacing", "rotation", "rule", "origin"});
+  mesh.only({"spacing", "rotation", "rule", "origin", "pull", "pull_min_quality"});
   msd::LimbMeshOptions o;
   o.spacing = mesh.number("spacing");
   if (!(o.spacing > 0.0)) throw msd::Error(mesh.where("spacing") + "must be a positive length (m)");
@@ -86,6 +86,18 @@ LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& 
     if (r.size() != 3) throw msd::Error(mesh.where("origin") + "needs three coordinates (m)");
     o.origin = msd::Vec3(r[0], r[1], r[2]);
   }
+  if (mesh.has("pull")) {  // thesis 4.6: [{name, lo: [x, y, z], hi: [x, y, z]}]
+    const YAML::Node list = root["mesh"]["pull"];
+    if (!list.IsSequence()) throw msd::Error(mesh.where("pull") + "must be a list of areas {name, lo, hi}");
+    for (size_t i = 0; i < list.size(); ++i) {
+      const Fields a(list[i], "mesh.pull[" + std::to_string(i) + "]", scene_file);
+      a.only({"name", "lo", "hi"});
+      const auto lo = a.number_list("lo"), hi = a.number_list("hi");
+      if (lo.size() != 3 || hi.size() != 3) throw msd::Error(a.where() + "lo and hi need three coordinates (m)");
+      o.pull_areas.push_back({a.text("name"), msd::Vec3(lo[0], lo[1], lo[2]), msd::Vec3(hi[0], hi[1], hi[2])});
+    }
+  }
+  o.pull_min_quality = mesh.number_or("pull_min_quality", o.pull_min_quality);
   try {
     o.rule = msd::parse_cube_rule(mesh.text_or("rule", "centre"));
   } catch (const msd::Error& e) {
@@ -201,6 +213,8 @@ LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& 
     out << "},\n  \"bone_points\": " << s.bone_points << ",\n  \"tendon_strands\": " << s.tendon_strands
         << ",\n  \"embedded_vertices\": " << s.embedded_vertices << ",\n  \"embedded_outside\": " << s.embedded_outside
         << ",\n  \"max_outside_distance\": " << json_number(s.max_outside_distance)
+        << ",\n  \"pulled_nodes\": " << m.pull.moved << ",\n  \"pull_gap_before\": " << json_number(m.pull.gap_before)
+        << ",\n  \"pull_gap_after\": " << json_number(m.pull.gap_after)
         << ",\n  \"min_quality\": " << json_number(s.min_quality) << ",\n  \"seconds\": " << json_number(s.seconds)
         << "\n}\n";
     if (!out) throw msd::Error(summary + ": write failed");

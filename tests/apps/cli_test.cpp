@@ -392,7 +392,7 @@ TEST(Cli, MeshWritesTheLimbForParaViewAndRefusesBadScenesByName) {
   msd::write_obj(dir.file("ham.obj"), msd::make_box({-0.025, -0.042, 0.17}, {0.025, -0.018, 0.28}));
   const std::string scene = R"(name: cylinder_leg
 leg: {skin: skin.obj, upper_bone: femur.obj, lower_bone: tibia.obj, front_muscle: quad.obj, back_muscle: ham.obj}
-mesh: {spacing: 0.01, rotation: [0, 0, 10]}
+mesh: {spacing: 0.01, rotation: [0, 0, 10], pull: [{name: behind_knee, lo: [-0.06, -0.06, 0.12], hi: [0.06, -0.01, 0.18]}]}
 tendons:
   - {name: hamstrings_lower, muscle: back_muscle, bone: lower_bone, strands: 6,
      path: [[0, -0.03, 0.17], [0, -0.03, 0.14], [0, -0.012, 0.13]]}
@@ -406,6 +406,7 @@ tendons:
                         "surfaces/back_muscle.vtu", "summary.json"})
     EXPECT_TRUE(std::filesystem::exists(dir.file("out/" + std::string(f)))) << f;
   const std::string summary = slurp(dir.file("out/summary.json"));
+  EXPECT_EQ(summary.find("\"pulled_nodes\": 0,"), std::string::npos) << "the pull moved no node\n" << summary;
   for (const char* key : {"\"cubes\"", "\"tets\"", "\"tets_by_region\"", "\"bone_points\"", "\"tendon_strands\"",
                           "\"embedded_vertices\"", "\"embedded_outside\"", "\"min_quality\"", "\"seconds\""})
     EXPECT_NE(summary.find(key), std::string::npos) << key << "\n" << summary;

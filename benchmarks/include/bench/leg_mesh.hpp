@@ -13,6 +13,9 @@
 //     spacing: 0.025              # m, required
 //     rotation: [0, 0, 0]         # grid orientation, degrees about x, y, z
 //     rule: centre                # centre | inside | overlap
+//     pull:                       # optional (thesis 4.6): surface nodes towards the skin
+//       - {name: behind_knee, lo: [x, y, z], hi: [x, y, z]}   # box, m
+//     pull_min_quality: 0.3       # no tet around a pulled node below this quality
 //   tendons:                      # optional
 //     - {name: hamstrings_lower, muscle: back_muscle, bone: lower_bone, strands: 6,
 //        path: [[0, -0.03, 0.17], [0, -0.012, 0.13]]}   # muscle end first (m)

@@ -3,6 +3,7 @@
 #include "msd/geometry/inside_test.hpp"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <unordered_map>
 
@@ -39,6 +40,66 @@ Mat3 rotation_from_degrees(const Vec3& deg) {
   return (Eigen::AngleAxisd(r.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(r.y(), Vec3::UnitY()) *
           Eigen::AngleAxisd(r.x(), Vec3::UnitX()))
       .toRotationMatrix();
+}
+
+Vec3 closest_on_surface(const TriangleMesh& m, const Vec3& p) {
+  Vec3 best = m.vertices.col(m.triangles[0][0]);
+  double best_d = std::numeric_limits<double>::infinity();
+  for (const Tri& t : m.triangles) {
+    const Vec3 q = closest_point_on_triangle(p, m.vertices.col(t[0]), m.vertices.col(t[1]), m.vertices.col(t[2]));
+    const double d = (q - p).squaredNorm();
+    if (d < best_d) {
+      best_d = d;
+      best = q;
+    }
+  }
+  return best;
+}
+
+// Thesis 4.6: boundary nodes inside the areas towards the skin.
+PullReport pull_to_skin(TetMesh& mesh, const TriangleMesh& skin, const std::vector<PullArea>& areas,
+                        double min_quality) {
+  PullReport r;
+  if (areas.empty()) return r;
+  std::vector<std::vector<int>> tets_of(static_cast<size_t>(mesh.num_nodes()));
+  for (size_t e = 0; e < mesh.tets.size(); ++e)
+    for (int v : mesh.tets[e]) tets_of[static_cast<size_t>(v)].push_back(static_cast<int>(e));
+  std::vector<char> boundary(static_cast<size_t>(mesh.num_nodes()), 0);
+  for (const Tri& f : boundary_faces(mesh.tets))
+    for (int v : f) boundary[static_cast<size_t>(v)] = 1;
+  auto worst = [&](int v) {
+    double q = 1.0;
+    for (int e : tets_of[static_cast<size_t>(v)]) {
+      const Tet& t = mesh.tets[static_cast<size_t>(e)];
+      const Vec3 a = mesh.nodes.col(t[0]), b = mesh.nodes.col(t[1]), c = mesh.nodes.col(t[2]), d = mesh.nodes.col(t[3]);
+      q = std::min(q, tet_signed_volume(a, b, c, d) > 0 ? tet_quality(a, b, c, d) : 0.0);
+    }
+    return q;
+  };
+  for (int v = 0; v < mesh.num_nodes(); ++v) {
+    if (!boundary[static_cast<size_t>(v)]) continue;
+    const Vec3 x = mesh.nodes.col(v);
+    bool inside = false;
+    for (const PullArea& a : areas) inside |= (x.array() >= a.lo.array()).all() && (x.array() <= a.hi.array()).all();
+    if (!inside) continue;
+    ++r.candidates;
+    const Vec3 target = closest_on_surface(skin, x);
+    r.gap_before += (target - x).norm();
+    double step = 1.0;
+    bool moved = false;
+    for (int attempt = 0; attempt < 7 && !moved; ++attempt, step *= 0.5) {
+      mesh.nodes.col(v) = x + step * (target - x);
+      moved = worst(v) >= min_quality;
+    }
+    if (!moved) mesh.nodes.col(v) = x;
+    r.moved += (mesh.nodes.col(v) - x).norm() > 0.0 ? 1 : 0;
+    r.gap_after += (closest_on_surface(skin, mesh.nodes.col(v)) - mesh.nodes.col(v)).norm();
+  }
+  if (r.candidates > 0) {
+    r.gap_before /= static_cast<double>(r.candidates);
+    r.gap_after /= static_cast<double>(r.candidates);
+  }
+  return r;
 }
 
 }  // namespace
@@ -102,6 +163,13 @@ LimbMesh mesh_limb(const LimbSurfaces& s, const LimbMeshOptions& o) {
     const auto it = node_of.find(p.grid_node);
     if (it != node_of.end()) out.bone_points.push_back({it->second, p.region});
   }
+
+  for (const PullArea& a : o.pull_areas)
+    if (!a.lo.allFinite() || !a.hi.allFinite() || (a.hi.array() < a.lo.array()).any())
+      throw Error("limb mesh: pull area '" + a.name + "' needs finite corners with lo <= hi");
+  if (!(o.pull_min_quality >= 0.0 && o.pull_min_quality < 1.0))
+    throw Error("limb mesh: pull_min_quality must lie in [0, 1)");
+  out.pull = pull_to_skin(out.mesh, s.skin, o.pull_areas, o.pull_min_quality);
 
   out.embedded[kPassiveTissue] = embed_vertices(out.mesh, s.skin.vertices);
   for (const auto& [r, m] : s.inner) out.embedded[r] = embed_vertices(out.mesh, m.vertices);

@@ -121,3 +121,33 @@ TEST(LimbMesher, ValidationNamesTheRegionItsFileAndTheFault) {
   o.spacing = 0.0;
   EXPECT_THROW(msd::mesh_limb(limb(), o), msd::Error);
 }
+
+TEST(LimbMesher, PullingSurfaceNodesTowardsTheSkinShrinksTheGapOnlyInTheArea) {
+  const msd::LimbSurfaces s = limb();
+  msd::LimbMeshOptions o;
+  o.spacing = 0.01;
+  const msd::LimbMesh plain = msd::mesh_limb(s, o);
+  o.pull_areas = {{"behind the knee", {-0.06, -0.06, 0.12}, {0.06, -0.01, 0.18}}};
+  const msd::LimbMesh pulled = msd::mesh_limb(s, o);
+  EXPECT_GT(pulled.pull.candidates, 5);
+  EXPECT_GT(pulled.pull.moved, 0);
+  EXPECT_LT(pulled.pull.gap_after, 0.5 * pulled.pull.gap_before);
+  EXPECT_GE(msd::min_quality(pulled.mesh), o.pull_min_quality);
+  // Nodes outside the area did not move; inside it some did.
+  int moved = 0;
+  for (int v = 0; v < plain.mesh.num_nodes(); ++v) {
+    const msd::Vec3 x = plain.mesh.nodes.col(v);
+    const bool in_area = x.y() <= -0.01 && x.z() >= 0.12 && x.z() <= 0.18;
+    if (!in_area) {
+      EXPECT_EQ((pulled.mesh.nodes.col(v) - x).norm(), 0.0) << v;
+    }
+    moved += (pulled.mesh.nodes.col(v) - x).norm() > 0 ? 1 : 0;
+  }
+  EXPECT_EQ(moved, pulled.pull.moved);
+  // The embedding is computed on the pulled mesh: rest positions still exact.
+  msd::Points x;
+  msd::embedded_positions(pulled.mesh.nodes, pulled.mesh.tets, pulled.embedded.at(msd::kPassiveTissue), x);
+  EXPECT_LT((x - s.skin.vertices).cwiseAbs().maxCoeff(), 1e-12);
+  o.pull_areas[0].hi.z() = 0.0;  // hi below lo
+  EXPECT_THROW(msd::mesh_limb(s, o), msd::Error);
+}

@@ -27,12 +27,32 @@ struct LimbSurfaces {
   std::map<int, std::string> source;  ///< region (kPassiveTissue = skin) -> file, for messages
 };
 
+/// An area where surface nodes are pulled towards the skin (thesis 4.6, "behind
+/// the knee"): an axis-aligned box in the surfaces' frame.
+struct PullArea {
+  std::string name;
+  Vec3 lo{Vec3::Zero()}, hi{Vec3::Zero()};
+};
+
 struct LimbMeshOptions {
   double spacing = 0.0;                    ///< cube edge h, m
   Vec3 rotation_deg{Vec3::Zero()};         ///< grid orientation: rotations about x, then y, then z (degrees)
   std::optional<Vec3> origin;              ///< grid origin in the rotated frame (default: the skin's lowest corner)
   CubeRule rule = CubeRule::Centre;
   long max_cubes = kDefaultMaxCubes;
+  /// Thesis 4.6: boundary nodes of the tet mesh inside these areas move towards
+  /// the closest point of the skin, as far as every tet around them keeps a
+  /// quality of at least pull_min_quality (the move is halved up to 6 times,
+  /// then skipped). Before the surfaces are embedded.
+  std::vector<PullArea> pull_areas;
+  double pull_min_quality = 0.3;
+};
+
+/// What the pull did: nodes moved, and their mean distance to the skin before
+/// and after (m).
+struct PullReport {
+  long candidates = 0, moved = 0;
+  double gap_before = 0.0, gap_after = 0.0;
 };
 
 struct LimbMesh {
@@ -44,6 +64,7 @@ struct LimbMesh {
   long cubes = 0;
   std::map<int, long> tets_by_region;
   std::map<int, Embedding> embedded;         ///< region (kPassiveTissue = skin) -> its surface's vertices
+  PullReport pull;
 };
 
 /// Throws msd::Error naming the region (and its file) and the fault: a surface
