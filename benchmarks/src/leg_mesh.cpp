@@ -42,6 +42,9 @@ msd::VtuGrid surface_grid(const msd::TriangleMesh& m, const msd::Embedding& e) {
 
 LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& out_dir) {
   const auto start = std::chrono::steady_clock::now();
+  // A summary from an earlier run must not outlive a failed one.
+  std::error_code ignore;
+  fs::remove(fs::path(out_dir) / "summary.json", ignore);
   YAML::Node root;
   try {
     root = YAML::LoadFile(scene_file);
@@ -147,7 +150,6 @@ LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& 
 
   // Outputs: everything else first, summary.json last.
   fs::create_directories(fs::path(out_dir) / "surfaces");
-  fs::remove(fs::path(out_dir) / "summary.json");
   msd::VtuGrid tets;
   tets.points = m.mesh.nodes;
   for (size_t e = 0; e < m.mesh.tets.size(); ++e) {
