@@ -1,0 +1,81 @@
+// Tendon strands (thesis 5.3): forces are minus the energy's gradient, pull only
+// when stretched, cancel along a straight strand at inner nodes, sum to zero.
+#include "msd/forces/tendon.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace {
+
+msd::Points random_strand(std::mt19937& rng, int n) {
+  std::uniform_real_distribution<double> u(-0.01, 0.01);
+  msd::Points x(3, n);
+  for (int i = 0; i < n; ++i) x.col(i) = msd::Vec3(0.02 * i + u(rng), u(rng), u(rng));
+  return x;
+}
+
+}  // namespace
+
+TEST(Tendon, ForcesAreMinusTheGradientOfTheEnergy) {
+  std::mt19937 rng(2);
+  for (int trial = 0; trial < 5; ++trial) {
+    const msd::Points x = random_strand(rng, 6);
+    const std::vector<int> nodes{0, 1, 2, 3, 4, 5};
+    const double l0 = 0.8 * msd::strand_length(x, nodes), kt = 2500.0;
+    msd::Points f = msd::Points::Zero(3, 6);
+    const double t = msd::add_tendon_forces(x, nodes, l0, kt, f);
+    EXPECT_NEAR(t, kt * (msd::strand_length(x, nodes) - l0), 1e-12);
+    const double h = 1e-7;
+    for (int i = 0; i < 6; ++i)
+      for (int a = 0; a < 3; ++a) {
+        msd::Points xp = x, xm = x;
+        xp(a, i) += h;
+        xm(a, i) -= h;
+        const double grad = (msd::tendon_energy(xp, nodes, l0, kt) - msd::tendon_energy(xm, nodes, l0, kt)) / (2 * h);
+        EXPECT_NEAR(f(a, i), -grad, 1e-6 * t) << "node " << i << " axis " << a;
+      }
+    EXPECT_LT(f.rowwise().sum().norm(), 1e-12 * t);  // internal: no net force
+  }
+}
+
+TEST(Tendon, ASlackStrandPushesNothing) {
+  std::mt19937 rng(3);
+  const msd::Points x = random_strand(rng, 4);
+  const std::vector<int> nodes{0, 1, 2, 3};
+  msd::Points f = msd::Points::Zero(3, 4);
+  EXPECT_EQ(msd::add_tendon_forces(x, nodes, 1.01 * msd::strand_length(x, nodes), 1e4, f), 0.0);
+  EXPECT_EQ(f.norm(), 0.0);
+  EXPECT_EQ(msd::tendon_energy(x, nodes, 1.01 * msd::strand_length(x, nodes), 1e4), 0.0);
+}
+
+TEST(Tendon, InnerNodesOfAStraightStrandFeelNothingAndABendFeelsTheTransverseResultant) {
+  msd::Points x(3, 3);
+  x << 0, 0.05, 0.1,  //
+      0, 0, 0,        //
+      0, 0, 0;
+  const std::vector<int> nodes{0, 1, 2};
+  msd::Points f = msd::Points::Zero(3, 3);
+  const double t = msd::add_tendon_forces(x, nodes, 0.09, 1000.0, f);
+  EXPECT_NEAR(t, 10.0, 1e-12);
+  EXPECT_LT(f.col(1).norm(), 1e-12);            // slides: no pull along the strand
+  EXPECT_NEAR(f(0, 0), 10.0, 1e-12);             // the muscle end pulled towards the bone
+  EXPECT_NEAR(f(0, 2), -10.0, 1e-12);
+  // Bent over the middle node by 90 degrees: it is pushed into the bend, along
+  // the bisector, with magnitude T sqrt(2).
+  x.col(2) = msd::Vec3(0.05, 0.05, 0);
+  f.setZero();
+  const double tb = msd::add_tendon_forces(x, nodes, 0.09, 1000.0, f);
+  EXPECT_NEAR(f.col(1).norm(), std::sqrt(2.0) * tb, 1e-9);
+  EXPECT_NEAR(f(0, 1), -tb, 1e-9);
+  EXPECT_NEAR(f(1, 1), tb, 1e-9);
+}
+
+TEST(Tendon, StiffnessIsModulusTimesAreaOverLength) {
+  // The thesis' softened modulus (0.8 MPa) and one of the order of real tendon (1.2 GPa).
+  EXPECT_NEAR(msd::tendon_stiffness(0.8e6, 1e-4, 0.1), 800.0, 1e-9);
+  EXPECT_NEAR(msd::tendon_stiffness(1.2e9, 1e-4, 0.1), 1.2e6, 1e-3);
+  EXPECT_THROW(msd::tendon_stiffness(0.0, 1e-4, 0.1), msd::Error);
+  EXPECT_THROW(msd::tendon_stiffness(1e6, -1.0, 0.1), msd::Error);
+  EXPECT_THROW(msd::tendon_stiffness(1e6, 1e-4, 0.0), msd::Error);
+}
