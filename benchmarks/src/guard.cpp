@@ -1,4 +1,5 @@
 #include "bench/guard.hpp"
+#include "bench/yaml_fields.hpp"
 
 #include "bench/series_tools.hpp"
 #include "msd/core/types.hpp"
@@ -62,14 +63,7 @@ std::map<std::string, double> collect_metrics(const std::string& dir) {
 }
 
 Baseline read_baseline(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw msd::Error(path + ": cannot read the baseline");
-  } catch (const YAML::Exception& e) {
-    throw msd::Error(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
+  const YAML::Node root = load_yaml_file(path, "baseline");
   Baseline b;
   if (root["tier"]) b.tier = root["tier"].as<std::string>();
   const YAML::Node m = root["metrics"];

@@ -45,15 +45,7 @@ LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& 
   // A summary from an earlier run must not outlive a failed one.
   std::error_code ignore;
   fs::remove(fs::path(out_dir) / "summary.json", ignore);
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(scene_file);
-  } catch (const YAML::BadFile&) {
-    throw msd::Error(scene_file + ": cannot read the scene file");
-  } catch (const YAML::Exception& e) {
-    throw msd::Error(scene_file + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
-                     ": YAML syntax error: " + e.msg);
-  }
+  const YAML::Node root = load_yaml_file(scene_file, "scene file");
   if (!root || !root.IsMap()) throw msd::Error(scene_file + ": the scene must be a YAML mapping");
   const Fields f(root, "", scene_file);
   f.only({"name", "description", "leg", "mesh", "tendons"});

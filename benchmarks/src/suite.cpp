@@ -121,14 +121,7 @@ Spec suite_variant(const Spec& spec, const std::string& variant, const std::stri
 }
 
 SuiteTier load_tier(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw msd::Error(path + ": cannot read the tier file");
-  } catch (const YAML::Exception& e) {
-    throw msd::Error(path + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
-  }
+  const YAML::Node root = load_yaml_file(path, "tier file");
   const Fields f(root, "", path);
   f.only({"tier", "description", "variants", "benchmarks", "sweeps", "stability", "verification", "convergence"});
   SuiteTier t;

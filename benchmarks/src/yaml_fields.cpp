@@ -16,6 +16,17 @@ std::string mark(const std::string& file, const YAML::Node& n) {
 
 }  // namespace
 
+YAML::Node load_yaml_file(const std::string& path, const std::string& what) {
+  try {
+    return YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw msd::Error(path + ": cannot read the " + what);
+  } catch (const YAML::Exception& e) {
+    throw msd::Error(path + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
+                     ": YAML syntax error: " + e.msg);
+  }
+}
+
 Fields::Fields(YAML::Node node, std::string path, std::string file)
     : node_(std::move(node)), path_(std::move(path)), file_(std::move(file)) {
   if (!node_.IsMap())

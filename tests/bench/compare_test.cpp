@@ -14,6 +14,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 namespace {
@@ -272,31 +273,31 @@ TEST(Compare, DisplacementFieldRelativeToTheLargestFemDisplacementSkippingProbes
   for (auto& u : um[1]) u = {0.0003, 0.0, u[2] == u[2] ? u[2] : 0.0};
   // An MSD frame at a time the FEM did not record is ignored.
   const std::vector<double> tm{0.5, 0.75, 1.0}, tf{0.5, 1.0};
-  {
+  // Both files: the same three rows of a uni-axial run, then the field set.
+  auto start = [&](const std::string& solver, const std::vector<double>& times) {
     bench::RunMeta meta;
-    meta.solver = "fem";
+    meta.solver = solver;
     meta.spec_name = "synthetic";
     meta.text = {{"test", "uniaxial (bonded platens)"}};
-    bench::ResultsWriter w(dir.file("fem.h5"), meta, {{"time", "s"}, {"strain", "-"}, {"nominal_stress", "Pa"}});
-    for (double t : tf) w.append({t, 0.1 * t, 100.0 * t});
-    w.add_point_set("probes", points);
-    for (size_t k = 0; k < tf.size(); ++k) w.append_frame("probes", tf[k], uf[k]);
-    w.set_timing(1.0, 2, 1e-3, 1);
-    w.finish();
+    auto w = std::make_unique<bench::ResultsWriter>(dir.file(solver + ".h5"), meta,
+                                                    std::vector<bench::SeriesColumn>{{"time", "s"}, {"strain", "-"}, {"nominal_stress", "Pa"}});
+    for (double t : times) w->append({t, 0.1 * t, 100.0 * t});
+    w->set_timing(1.0, static_cast<long>(times.size()), 1e-3, 1);
+    return w;
+  };
+  {
+    auto w = start("fem", tf);
+    w->add_point_set("probes", points);
+    for (size_t k = 0; k < tf.size(); ++k) w->append_frame("probes", tf[k], uf[k]);
+    w->finish();
   }
   {
-    bench::RunMeta meta;
-    meta.solver = "msd";
-    meta.spec_name = "synthetic";
-    meta.text = {{"test", "uniaxial (bonded platens)"}};
-    bench::ResultsWriter w(dir.file("msd.h5"), meta, {{"time", "s"}, {"strain", "-"}, {"nominal_stress", "Pa"}});
-    for (double t : tm) w.append({t, 0.1 * t, 100.0 * t});
-    w.add_point_set("nodes", points, {{0, 1, 2, 3}});
-    w.append_frame("nodes", 0.5, um[0]);
-    w.append_frame("nodes", 0.75, {{1, 1, 1}, {1, 1, 1}, {1, 1, 1}, {1, 1, 1}});
-    w.append_frame("nodes", 1.0, um[1]);
-    w.set_timing(1.0, 3, 1e-3, 1);
-    w.finish();
+    auto w = start("msd", tm);
+    w->add_point_set("nodes", points, {{0, 1, 2, 3}});
+    w->append_frame("nodes", 0.5, um[0]);
+    w->append_frame("nodes", 0.75, {{1, 1, 1}, {1, 1, 1}, {1, 1, 1}, {1, 1, 1}});
+    w->append_frame("nodes", 1.0, um[1]);
+    w->finish();
   }
   const bench::Comparison c = bench::compare_results(dir.file("msd.h5"), dir.file("fem.h5"));
   EXPECT_EQ(c.frames_compared, 2);

@@ -13,6 +13,11 @@
 
 namespace bench {
 
+/// Loads a YAML file. Throws msd::Error "PATH: cannot read the WHAT" for a
+/// missing or unreadable file, "PATH:LINE:COL: YAML syntax error: ..." for bad
+/// YAML.
+YAML::Node load_yaml_file(const std::string& path, const std::string& what);
+
 /// A YAML mapping with the dotted path it was found at, for messages.
 class Fields {
  public:
