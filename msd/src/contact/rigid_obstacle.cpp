@@ -31,9 +31,11 @@ CylinderGap cylinder_gap(const RigidCylinder& c, const Vec3& offset, const Vec3&
   return g;
 }
 
-bool resolve_cylinder_contact(const RigidCylinder& c, ContactResponse response, const Vec3& offset,
-                              const Vec3& velocity, Vec3& x, Vec3& v) {
-  const CylinderGap g = cylinder_gap(c, offset, x);
+namespace {
+
+// Projection to the closest surface point along the normal, then the velocity
+// per the response (thesis 5.6.2).
+bool respond(const ContactGap& g, ContactResponse response, const Vec3& velocity, Vec3& x, Vec3& v) {
   if (!(g.depth > 0.0)) return false;
   x += g.depth * g.normal;
   if (response == ContactResponse::Stick) {
@@ -43,6 +45,28 @@ bool resolve_cylinder_contact(const RigidCylinder& c, ContactResponse response, 
     if (vn < 0.0) v -= vn * g.normal;
   }
   return true;
+}
+
+}  // namespace
+
+bool resolve_cylinder_contact(const RigidCylinder& c, ContactResponse response, const Vec3& offset,
+                              const Vec3& velocity, Vec3& x, Vec3& v) {
+  return respond(cylinder_gap(c, offset, x), response, velocity, x, v);
+}
+
+ContactGap plane_gap(const RigidPlane& p, const Vec3& offset, const Vec3& x) {
+  return {-(x - p.point - offset).dot(p.normal), p.normal};
+}
+
+bool resolve_plane_contact(const RigidPlane& p, ContactResponse response, const Vec3& offset, const Vec3& velocity,
+                           Vec3& x, Vec3& v) {
+  return respond(plane_gap(p, offset, x), response, velocity, x, v);
+}
+
+void check_plane(const RigidPlane& p, const std::string& where) {
+  if (!p.point.allFinite()) throw Error(where + ": the plane's point is not finite");
+  if (!p.normal.allFinite() || std::abs(p.normal.norm() - 1.0) > 1e-9)
+    throw Error(where + ": the plane's normal must be a unit vector");
 }
 
 void check_cylinder(const RigidCylinder& c, const std::string& where) {

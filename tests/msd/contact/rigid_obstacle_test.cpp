@@ -131,3 +131,29 @@ TEST(RigidCylinder, ModelTestsSurfaceNodesOutsideKinematicGroupsAndStepKeepsThem
   opt.obstacles[0].nodes = {9};
   EXPECT_THROW(msd::build_model(mesh, opt), msd::Error);
 }
+
+TEST(RigidPlane, NodesBelowATableAreLiftedOntoItWithTheResponsesVelocity) {
+  // A table top at z = 0.8 m (moving up at 0.1 m/s, offset 5 mm so far).
+  const msd::RigidPlane table{msd::Vec3(0, 0, 0.8), msd::Vec3::UnitZ()};
+  const msd::Vec3 offset(0, 0, 0.005), table_velocity(0, 0, 0.1);
+  const msd::ContactGap g = msd::plane_gap(table, offset, msd::Vec3(0.3, -0.2, 0.79));
+  EXPECT_NEAR(g.depth, 0.015, 1e-15);
+  EXPECT_EQ(g.normal, msd::Vec3::UnitZ());
+  // Stick: onto the surface with the table's velocity.
+  msd::Vec3 x(0.3, -0.2, 0.79), v(0.5, 0.0, -1.0);
+  EXPECT_TRUE(msd::resolve_plane_contact(table, msd::ContactResponse::Stick, offset, table_velocity, x, v));
+  EXPECT_LT((x - msd::Vec3(0.3, -0.2, 0.805)).norm(), 1e-15);
+  EXPECT_EQ(v, table_velocity);
+  // Frictionless: keeps its sliding velocity, loses only the approach.
+  x = msd::Vec3(0.3, -0.2, 0.79);
+  v = msd::Vec3(0.5, 0.0, -1.0);
+  EXPECT_TRUE(msd::resolve_plane_contact(table, msd::ContactResponse::Frictionless, offset, table_velocity, x, v));
+  EXPECT_LT((v - msd::Vec3(0.5, 0.0, 0.1)).norm(), 1e-15);
+  // Above the table: untouched.
+  x = msd::Vec3(0, 0, 0.9);
+  v = msd::Vec3(0, 0, -1);
+  EXPECT_FALSE(msd::resolve_plane_contact(table, msd::ContactResponse::Stick, offset, table_velocity, x, v));
+  EXPECT_EQ(x, msd::Vec3(0, 0, 0.9));
+  EXPECT_NO_THROW(msd::check_plane(table, "table"));
+  EXPECT_THROW(msd::check_plane({msd::Vec3::Zero(), msd::Vec3(0, 0, 2)}, "table"), msd::Error);
+}

@@ -47,11 +47,14 @@ struct RigidObstacle {
   std::vector<int> nodes;
 };
 
-/// Where x lies relative to the cylinder moved by `offset`.
-struct CylinderGap {
-  double depth = 0.0;          ///< R - r: > 0 inside, m
+/// Where a point lies relative to an object's surface.
+struct ContactGap {
+  double depth = 0.0;          ///< > 0 inside (cylinder: R - r), m
   Vec3 normal{Vec3::Zero()};   ///< outward unit normal at the closest surface point
 };
+using CylinderGap = ContactGap;
+
+/// Where x lies relative to the cylinder moved by `offset`.
 CylinderGap cylinder_gap(const RigidCylinder& c, const Vec3& offset, const Vec3& x);
 
 /// The thesis' response for one node: if x is inside the cylinder (moved by
@@ -63,5 +66,24 @@ bool resolve_cylinder_contact(const RigidCylinder& c, ContactResponse response, 
 /// Throws msd::Error naming `where` unless the cylinder is usable (finite
 /// point, unit-normalisable axis, positive radius).
 void check_cylinder(const RigidCylinder& c, const std::string& where);
+
+/// A rigid half-space - a table, a wall, the floor: solid where
+/// (x - point) . normal < 0; `normal` is the unit outward normal. For x inside,
+/// depth g = -(x - point) . normal and the closest surface point is x + g n.
+struct RigidPlane {
+  Vec3 point{Vec3::Zero()};
+  Vec3 normal{Vec3::UnitZ()};
+};
+
+/// Where x lies relative to the plane moved by `offset`.
+ContactGap plane_gap(const RigidPlane& p, const Vec3& offset, const Vec3& x);
+
+/// The thesis' response against a plane, as resolve_cylinder_contact.
+bool resolve_plane_contact(const RigidPlane& p, ContactResponse response, const Vec3& offset, const Vec3& velocity,
+                           Vec3& x, Vec3& v);
+
+/// Throws msd::Error naming `where` unless the plane is usable (finite point,
+/// unit normal).
+void check_plane(const RigidPlane& p, const std::string& where);
 
 }  // namespace msd
