@@ -136,6 +136,13 @@ LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& 
     }
   }
 
+  for (size_t i = 0; i < tendon_specs.size(); ++i) {
+    try {
+      msd::validate_tendon_ends(surfaces, tendon_specs[i], o.spacing);
+    } catch (const msd::Error& e) {
+      throw msd::Error(scene_file + ": tendons[" + std::to_string(i) + "]: " + e.what());
+    }
+  }
   const msd::LimbMesh m = msd::mesh_limb(surfaces, o);
   std::vector<msd::TendonStrands> tendons;
   for (const auto& spec : tendon_specs) tendons.push_back(msd::route_tendon(m, spec));

@@ -1,11 +1,33 @@
 #include "msd/mesh/tendon_paths.hpp"
 
+#include "msd/geometry/inside_test.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
+#include <sstream>
 
 namespace msd {
+
+void validate_tendon_ends(const LimbSurfaces& surfaces, const TendonPathSpec& spec, double tolerance) {
+  const std::string who = "tendon '" + spec.name + "': ";
+  if (spec.path.empty()) throw Error(who + "the path needs at least two points");
+  auto check = [&](int region, const Vec3& p, const char* end) {
+    const auto it = surfaces.inner.find(region);
+    if (it == surfaces.inner.end()) throw Error(who + "the limb has no " + region_name(region));
+    if (!InsideTest(it->second).inside(p, tolerance)) {
+      const auto src = surfaces.source.find(region);
+      std::ostringstream m;
+      m << who << "its " << end << " point (" << p.x() << ", " << p.y() << ", " << p.z() << ") is not in "
+        << region_name(region) << (src != surfaces.source.end() ? " (" + src->second + ")" : std::string())
+        << " nor within " << tolerance << " m of it";
+      throw Error(m.str());
+    }
+  };
+  check(spec.muscle, spec.path.front(), "first (muscle)");
+  check(spec.bone, spec.path.back(), "last (bone)");
+}
 
 TendonStrands route_tendon(const LimbMesh& m, const TendonPathSpec& spec) {
   const std::string who = "tendon '" + spec.name + "': ";

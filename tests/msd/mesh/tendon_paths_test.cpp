@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 namespace {
@@ -108,4 +109,37 @@ TEST(TendonPaths, BadTendonsAreNamed) {
   msd::LimbMeshOptions o;
   o.spacing = 0.01;
   EXPECT_THROW(msd::route_tendon(msd::mesh_limb(s, o), hamstring_tendon(6)), msd::Error);
+}
+
+TEST(TendonPaths, EndsMustLieOnTheirMuscleAndBone) {
+  msd::LimbSurfaces s = testing_support::cylinder_limb();
+  s.source[msd::kBackMuscle] = "hamstrings.obj";
+  s.source[msd::kLowerBone] = "tibia.stl";
+  auto message = [&](const msd::TendonPathSpec& t) -> std::string {
+    try {
+      msd::validate_tendon_ends(s, t, 0.005);
+    } catch (const msd::Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(message(hamstring_tendon(6)), "");
+  // Drawn the wrong way round: the first point is at the bone.
+  auto t = hamstring_tendon(6);
+  std::reverse(t.path.begin(), t.path.end());
+  EXPECT_NE(message(t).find("tendon 'hamstrings to lower bone': its first (muscle) point (0, -0.012, 0.13) is not in "
+                            "back_muscle (hamstrings.obj)"),
+            std::string::npos)
+      << message(t);
+  // Ending in the passive tissue, 2 cm from the bone.
+  t = hamstring_tendon(6);
+  t.path.back() = msd::Vec3(0, -0.035, 0.13);
+  EXPECT_NE(message(t).find("its last (bone) point"), std::string::npos) << message(t);
+  EXPECT_NE(message(t).find("lower_bone (tibia.stl)"), std::string::npos);
+  // Within the tolerance is accepted.
+  t.path.back() = msd::Vec3(0, -0.015, 0.13);
+  EXPECT_EQ(message(t), "");
+  // A limb without that muscle.
+  s.inner.erase(msd::kBackMuscle);
+  EXPECT_NE(message(hamstring_tendon(6)).find("the limb has no back_muscle"), std::string::npos);
 }

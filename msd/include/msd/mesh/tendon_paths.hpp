@@ -32,6 +32,13 @@ struct TendonStrands {
   std::vector<std::vector<int>> strands;  ///< mesh node indices, muscle node first, bone node last
 };
 
+/// Checks a tendon's geometric ends against the limb's surfaces: the path's
+/// first point must lie in (or within `tolerance` of) its muscle's surface and
+/// its last point in (or within `tolerance` of) its bone's surface. Throws
+/// msd::Error naming the tendon, the end, the region and its file otherwise,
+/// or when the limb has no such surface.
+void validate_tendon_ends(const LimbSurfaces& surfaces, const TendonPathSpec& spec, double tolerance);
+
 /// Throws msd::Error naming the tendon for a path of fewer than two points, a
 /// strand count below 1, a muscle or bone with no tets (or bone points) in the
 /// mesh, or fewer muscle nodes than strands.
