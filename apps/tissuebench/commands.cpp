@@ -16,10 +16,12 @@
 #include "bench/sweep.hpp"
 #include "fem/fem.hpp"
 #include "msd/forces/element_forces.hpp"
+#include "msd/geometry/leg_generator.hpp"
 
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -40,6 +42,10 @@ std::vector<std::string> default_suite() {
 namespace {
 
 bool root() { return fem::Session::rank() == 0; }
+
+// The default leg's grid spacing at the reference stature (m): chosen so the
+// cube count is close to the thesis' 959 (docs/leg-geometry.md).
+constexpr double kDefaultLegSpacing = 0.0245;
 
 void print_summary_header() {
   std::printf("%-28s %6s %5s %8s %8s %10s %10s %7s %7s %6s %7s %s\n", "spec", "tets", "nodes",
@@ -398,9 +404,37 @@ int cmd_converge(const ConvergeArgs& args) {
 
 int cmd_mesh(const MeshArgs& args) {
   if (!root()) return 0;
-  const bench::LegMeshSummary s = bench::mesh_leg_scene(args.scene, args.out);
+  const std::string scene = args.scene.empty() ? std::string(TISSUEBENCH_DATA_DIR) + "/leg/leg.yaml" : args.scene;
+  const bench::LegMeshSummary s = bench::mesh_leg_scene(scene, args.out);
   std::printf("%s", bench::format_leg_mesh_summary(s).c_str());
   std::printf("written: %s/mesh.vtu, bone_points.vtu, surfaces/*.vtu, summary.json\n", args.out.c_str());
+  return 0;
+}
+
+int cmd_leg_geometry(const LegGeometryArgs& args) {
+  if (!root()) return 0;
+  const auto start = std::chrono::steady_clock::now();
+  msd::LegParameters p;
+  p.stature = args.stature;
+  p.mass = args.mass;
+  p.skin_cell = args.skin_cell;
+  const msd::LegGeometry leg = msd::make_leg(p);
+  const double spacing = args.spacing > 0.0 ? args.spacing : kDefaultLegSpacing * p.stature / p.dims.reference_stature;
+  const std::string out = args.out.empty() ? std::string(TISSUEBENCH_DATA_DIR) + "/leg" : args.out;
+  msd::write_leg(leg, p, spacing, out);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("leg: stature %.3f m, mass %.1f kg (girth scale %.3f); hip %.3f m, knee %.3f m, ankle %.3f m, foot %.3f m\n",
+              p.stature, p.mass, leg.girth_scale, leg.hip_height, leg.knee_height, leg.ankle_height, leg.foot_length);
+  const std::pair<const char*, const msd::TriangleMesh*> surfaces[] = {{"skin", &leg.skin},
+                                                                        {"upper_bone", &leg.upper_bone},
+                                                                        {"lower_bone", &leg.lower_bone},
+                                                                        {"front_muscle", &leg.front_muscle},
+                                                                        {"back_muscle", &leg.back_muscle}};
+  for (const auto& [name, m] : surfaces)
+    std::printf("  %-13s %6d triangles %6d vertices  %7.3f L\n", name, m->num_triangles(), m->num_vertices(),
+                1e3 * msd::enclosed_volume(*m));
+  std::printf("  tendons: %zu paths; grid spacing in the scene %.4f m; %.2f s\n", leg.tendons.size(), spacing, seconds);
+  std::printf("written: %s/{skin,upper_bone,lower_bone,front_muscle,back_muscle}.obj, leg.yaml\n", out.c_str());
   return 0;
 }
 

@@ -56,10 +56,24 @@ int main(int argc, char** argv) {
   auto* mesh_cmd = cli.add_subcommand(
       "mesh", "Mesh a limb from its surfaces (skin, bones, muscles as OBJ/STL/PLY): regions, erosion, bone points, "
               "embedded surfaces; writes VTU files for ParaView and summary.json");
-  mesh_cmd->add_option("scene", mesh.scene, "Scene file (YAML; see benchmarks/include/bench/leg_mesh.hpp)")
-      ->required()
+  mesh_cmd->add_option("scene", mesh.scene,
+                       "Scene file (YAML; see benchmarks/include/bench/leg_mesh.hpp); default: the shipped leg, "
+                       "msd/data/leg/leg.yaml")
       ->check(CLI::ExistingFile);
   mesh_cmd->add_option("--out", mesh.out, "Output folder")->capture_default_str();
+
+  app::LegGeometryArgs leg_geometry;
+  auto* leg_geometry_cmd = cli.add_subcommand(
+      "leg-geometry", "Generate the parametric leg (skin, femur, lower bone, two muscles, tendon paths) from "
+                      "anthropometry scaled by stature and mass: OBJ surfaces and the mesh scene leg.yaml");
+  leg_geometry_cmd->add_option("--stature", leg_geometry.stature, "Stature (m), 1.2-2.3")->capture_default_str();
+  leg_geometry_cmd->add_option("--mass", leg_geometry.mass, "Body mass (kg), 30-200")->capture_default_str();
+  leg_geometry_cmd->add_option("--spacing", leg_geometry.spacing,
+                               "Grid spacing written into leg.yaml (m); default 0.0245 m scaled by stature");
+  leg_geometry_cmd->add_option("--skin-cell", leg_geometry.skin_cell,
+                               "Skin resolution: marching-tetrahedra cell (m); inner surfaces use half")
+      ->capture_default_str();
+  leg_geometry_cmd->add_option("--out", leg_geometry.out, "Output folder; default: msd/data/leg (the shipped files)");
 
   app::ConvergeArgs converge;
   auto* converge_cmd = cli.add_subcommand(
@@ -177,6 +191,7 @@ int main(int argc, char** argv) {
     if (*suite_cmd) return app::cmd_suite(suite);
     if (*inspect_cmd) return app::cmd_inspect(inspect);
     if (*mesh_cmd) return app::cmd_mesh(mesh);
+    if (*leg_geometry_cmd) return app::cmd_leg_geometry(leg_geometry);
     if (*converge_cmd) return app::cmd_converge(converge);
     if (*compare_cmd) return app::cmd_compare(compare);
     if (*calibrate_cmd) return app::cmd_calibrate(calibrate);

@@ -433,6 +433,16 @@ tendons:
   bad = sh("mesh " + dir.file("tendon.yaml") + " --out " + dir.file("bad"));
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.output.find("tendons[0].bone"), std::string::npos) << bad.output;
+  // A tendon drawn from the bone to the muscle: its ends are on the wrong regions.
+  std::ofstream(dir.file("reversed.yaml"))
+      << replaced(scene, "[[0, -0.03, 0.17], [0, -0.03, 0.14], [0, -0.012, 0.13]]",
+                  "[[0, -0.012, 0.13], [0, -0.03, 0.14], [0, -0.03, 0.17]]");
+  bad = sh("mesh " + dir.file("reversed.yaml") + " --out " + dir.file("bad"));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.output.find("tendons[0]: tendon 'hamstrings_lower': its first (muscle) point (0, -0.012, 0.13) is "
+                            "not in back_muscle (" + dir.file("ham.obj") + ")"),
+            std::string::npos)
+      << bad.output;
   msd::write_obj(dir.file("long_femur.obj"), moved(msd::make_cylinder(0.012, 0.2, 16), {0, 0, 0.165}));
   std::ofstream(dir.file("outside.yaml")) << replaced(scene, "femur.obj", "long_femur.obj");
   bad = sh("mesh " + dir.file("outside.yaml") + " --out " + dir.file("bad"));
@@ -440,4 +450,35 @@ tendons:
   EXPECT_NE(bad.output.find("upper_bone (" + dir.file("long_femur.obj") + "): vertex"), std::string::npos)
       << bad.output;
   EXPECT_FALSE(std::filesystem::exists(dir.file("bad/summary.json")));
+}
+
+TEST(Cli, LegGeometryWritesALegThatMeshesAndTheShippedLegIsTheDefault) {
+  testing_support::TempDir dir("cli_leg");
+  // A smaller body: files and a scene that tissuebench mesh reads.
+  Result r = sh("leg-geometry --stature 1.65 --mass 60 --skin-cell 0.02 --out " + dir.file("leg"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("stature 1.650 m, mass 60.0 kg"), std::string::npos) << r.output;
+  for (const char* f : {"skin.obj", "upper_bone.obj", "lower_bone.obj", "front_muscle.obj", "back_muscle.obj", "leg.yaml"})
+    EXPECT_TRUE(std::filesystem::exists(dir.file("leg/" + std::string(f)))) << f;
+  r = sh("mesh " + dir.file("leg/leg.yaml") + " --out " + dir.file("mesh"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string summary = slurp(dir.file("mesh/summary.json"));
+  EXPECT_NE(summary.find("\"tendon_strands\": 26"), std::string::npos) << summary;  // 8 + 6 + 6 + 6
+  for (const char* region : {"\"front_muscle\": 0,", "\"back_muscle\": 0,", "\"upper_bone\": 0,", "\"lower_bone\": 0,"})
+    EXPECT_EQ(summary.find(region), std::string::npos) << region << " has no tets\n" << summary;
+
+  // No scene: the shipped leg (msd/data/leg/leg.yaml), at the thesis' resolution.
+  r = sh("mesh --out " + dir.file("default"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string s = slurp(dir.file("default/summary.json"));
+  const size_t at = s.find("\"cubes\": ");
+  ASSERT_NE(at, std::string::npos) << s;
+  const long cubes = std::stol(s.substr(at + 9));
+  EXPECT_NEAR(cubes, 959, 0.1 * 959) << s;  // the thesis' leg: 959 cubes
+
+  // Unphysical bodies are refused by name, and nothing is written.
+  r = sh("leg-geometry --stature 2.9 --out " + dir.file("bad"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("stature (m) = 2.9 is outside 1.2 ... 2.3"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("bad")));
 }

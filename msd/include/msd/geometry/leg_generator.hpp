@@ -1,0 +1,96 @@
+// A parametric human leg (thesis 4.2): the skin (thigh, knee, calf, ankle,
+// foot), the femur, one lower bone combining tibia, fibula, patella and the
+// foot's bones, a front (quadriceps-like) and a back (hamstrings-like) muscle,
+// and four tendon paths joining each muscle to both bones - closed, outward
+// surfaces built as implicit solids (implicit_surface.hpp) from published
+// anthropometry, scaled by stature and mass.
+//
+// Frame: z up from the floor (the sole at z = 0), x forward (anterior), y to
+// the side (lateral: the fibula lies at +y). The skin is cut flat at hip-joint
+// height. The knee's hinge centre is at (0, 0, knee height), its axis along y.
+//
+// Scaling: lengths (segment lengths, bone sizes) scale with stature H / H0;
+// girths with sqrt((M / M0) / (H / H0)), so the limb's volume scales with mass
+// at a given stature. H0 and M0 are the reference body the dimensions describe.
+// Every dimension and its source: docs/leg-geometry.md.
+#pragma once
+
+#include "msd/geometry/triangle_mesh.hpp"
+
+#include <string>
+#include <vector>
+
+namespace msd {
+
+/// The reference body and its leg: the mean US Army male of ANSUR II (2012)
+/// unless noted; every number's source is in docs/leg-geometry.md. Lengths in
+/// m at the reference stature; `*_girth` are circumferences (m); `*_frac` are
+/// fractions of stature.
+struct LegDimensions {
+  double reference_stature = 1.756;  ///< H0 (m), ANSUR II male mean
+  double reference_mass = 85.5;      ///< M0 (kg), ANSUR II male mean
+  // Heights above the floor, foot size.
+  double hip_height_frac = 0.530;    ///< hip joint, Drillis & Contini (Winter 2009, fig. 4.1)
+  double knee_height_frac = 0.285;   ///< knee joint, same
+  double ankle_height = 0.0729;      ///< lateral malleolus
+  double foot_length = 0.2712;
+  double foot_breadth = 0.1019;
+  double heel_breadth = 0.0725;
+  double heel_to_ankle_frac = 0.25;  ///< of the foot's length, heel to the ankle's vertical (a modelling choice)
+  // Girths (m).
+  double upper_thigh_girth = 0.625;  ///< at the gluteal furrow
+  double lower_thigh_girth = 0.409;  ///< just above the knee
+  double knee_girth = 0.3915;        ///< Heinz et al. 2003 (0.372 m), rescaled to this body
+  double calf_girth = 0.392;         ///< maximum
+  double ankle_girth = 0.229;        ///< minimum, above the malleoli
+  // Bones (m).
+  double femur_shaft_diameter = 0.0287;      ///< midshaft perimeter / pi (N. Greece femora, 2019)
+  double femur_bicondylar_breadth = 0.0820;  ///< same sample
+  double tibia_plateau_breadth = 0.0760;     ///< MRI, Egyptian knees (2021)
+  double tibia_shaft_diameter = 0.024;       ///< no source found: a modelling choice
+  double fibula_diameter = 0.013;            ///< no source found: a modelling choice
+  double patella_height = 0.0344;            ///< Iranpour et al., Caucasians
+  double patella_width = 0.0448;
+  double patella_thickness = 0.0224;
+};
+
+struct LegParameters {
+  double stature = 1.756;  ///< H (m)
+  double mass = 85.5;      ///< M (kg)
+  LegDimensions dims;
+  /// Marching-tetrahedra cell of the skin (m); the inner surfaces use half of
+  /// it. 0.016 m gives about 15.7k skin triangles at the reference size, like
+  /// the thesis' scan (15,338 triangles, about 1.2 cm).
+  double skin_cell = 0.016;
+};
+
+/// A tendon's geometric path: a polyline from the muscle end to the bone.
+struct LegTendon {
+  std::string name, muscle, bone;  ///< muscle: front_muscle|back_muscle; bone: upper_bone|lower_bone
+  int strands = 6;
+  std::vector<Vec3> path;  ///< muscle end first (m)
+};
+
+struct LegGeometry {
+  TriangleMesh skin, upper_bone, lower_bone, front_muscle, back_muscle;
+  std::vector<LegTendon> tendons;  ///< back-upper (8 strands), back-lower, front-upper, front-lower (6 each), thesis 4.5
+  Vec3 knee_centre{Vec3::Zero()};
+  Vec3 knee_axis{Vec3::UnitY()};
+  double hip_height = 0.0, knee_height = 0.0, ankle_height = 0.0, foot_length = 0.0;
+  double girth_scale = 1.0;  ///< sqrt((M / M0) / (H / H0))
+};
+
+/// Builds the leg. Throws msd::Error naming the parameter for a stature outside
+/// 1.2-2.3 m, a mass outside 30-200 kg, a cell outside 2-30 mm, or a body
+/// whose bones or muscles would leave the skin or overlap (the surfaces are
+/// checked by validate_limb before they are returned).
+LegGeometry make_leg(const LegParameters& params);
+
+/// Writes skin.obj, upper_bone.obj, lower_bone.obj, front_muscle.obj,
+/// back_muscle.obj and leg.yaml - the `tissuebench mesh` scene with the tendon
+/// paths, the grid spacing `spacing` (m) and the pull area behind the knee -
+/// into `dir` (created if missing). Each file is written under a temporary
+/// name and moved into place.
+void write_leg(const LegGeometry& leg, const LegParameters& params, double spacing, const std::string& dir);
+
+}  // namespace msd

@@ -1,0 +1,311 @@
+#include "msd/geometry/leg_generator.hpp"
+
+#include "msd/geometry/implicit_surface.hpp"
+#include "msd/mesh/limb_mesher.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace msd {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Monotone piecewise-cubic interpolation (Fritsch & Carlson 1980) through
+// (z_i, y_i), z increasing; constant beyond the ends. Monotone so a girth never
+// overshoots between two measured sections.
+class MonotoneCubic {
+ public:
+  MonotoneCubic(std::vector<double> z, std::vector<double> y) : z_(std::move(z)), y_(std::move(y)) {
+    const size_t n = z_.size();
+    std::vector<double> d(n - 1);
+    for (size_t i = 0; i + 1 < n; ++i) d[i] = (y_[i + 1] - y_[i]) / (z_[i + 1] - z_[i]);
+    m_.assign(n, 0.0);
+    m_[0] = d[0];
+    m_[n - 1] = d[n - 2];
+    for (size_t i = 1; i + 1 < n; ++i) m_[i] = d[i - 1] * d[i] <= 0.0 ? 0.0 : 0.5 * (d[i - 1] + d[i]);
+    for (size_t i = 0; i + 1 < n; ++i) {
+      if (d[i] == 0.0) {
+        m_[i] = m_[i + 1] = 0.0;
+        continue;
+      }
+      const double a = m_[i] / d[i], b = m_[i + 1] / d[i], s = a * a + b * b;
+      if (s > 9.0) {
+        const double t = 3.0 / std::sqrt(s);
+        m_[i] = t * a * d[i];
+        m_[i + 1] = t * b * d[i];
+      }
+    }
+  }
+  double operator()(double z) const {
+    if (z <= z_.front()) return y_.front();
+    if (z >= z_.back()) return y_.back();
+    const size_t i = static_cast<size_t>(std::upper_bound(z_.begin(), z_.end(), z) - z_.begin()) - 1;
+    const double h = z_[i + 1] - z_[i], t = (z - z_[i]) / h, t2 = t * t, t3 = t2 * t;
+    return (2 * t3 - 3 * t2 + 1) * y_[i] + (t3 - 2 * t2 + t) * h * m_[i] + (-2 * t3 + 3 * t2) * y_[i + 1] +
+           (t3 - t2) * h * m_[i + 1];
+  }
+
+ private:
+  std::vector<double> z_, y_, m_;
+};
+
+// The semi-minor axis b of an ellipse of perimeter `girth` and axis ratio
+// r = a / b (Ramanujan's second approximation of the perimeter).
+double semi_axis_for_girth(double girth, double r) {
+  const double h = std::pow((r - 1.0) / (r + 1.0), 2);
+  return girth / (kPi * (1.0 + r) * (1.0 + 3.0 * h / (10.0 + std::sqrt(4.0 - 3.0 * h))));
+}
+
+// Approximate signed distance to the ellipse of semi-axes (a, b) in a section.
+double ellipse_field(double dx, double dy, double a, double b) {
+  return (std::hypot(dx / a, dy / b) - 1.0) * std::min(a, b);
+}
+
+void require_range(double v, double lo, double hi, const std::string& what) {
+  if (!std::isfinite(v) || v < lo || v > hi) {
+    std::ostringstream m;
+    m << "leg: " << what << " = " << v << " is outside " << lo << " ... " << hi;
+    throw Error(m.str());
+  }
+}
+
+}  // namespace
+
+LegGeometry make_leg(const LegParameters& p) {
+  require_range(p.stature, 1.2, 2.3, "stature (m)");
+  require_range(p.mass, 30.0, 200.0, "mass (kg)");
+  require_range(p.skin_cell, 0.002, 0.03, "skin_cell (m)");
+  const LegDimensions& d = p.dims;
+  const double ls = p.stature / d.reference_stature;                      // lengths
+  const double gs = std::sqrt((p.mass / d.reference_mass) / ls);          // girths
+  const double H = p.stature;
+
+  LegGeometry leg;
+  leg.girth_scale = gs;
+  const double z_top = d.hip_height_frac * H, z_knee = d.knee_height_frac * H, z_ankle = d.ankle_height * ls;
+  const double L = d.foot_length * ls, B = d.foot_breadth * ls, Bh = d.heel_breadth * ls;
+  leg.hip_height = z_top;
+  leg.knee_height = z_knee;
+  leg.ankle_height = z_ankle;
+  leg.foot_length = L;
+  leg.knee_centre = Vec3(0.0, 0.0, z_knee);
+  const double T = z_top - z_knee, S = z_knee - z_ankle;  // thigh and shank lengths
+
+  // ---- Skin: a lofted tube of elliptic sections, a foot, blended. --------
+  // Sections (height, girth, AP/ML axis ratio, centre offset forward). The
+  // ratios and offsets are modelling choices (docs/leg-geometry.md); the
+  // girths and heights are measurements.
+  const std::vector<double> zs{z_ankle + 0.12 * S, z_knee - 0.30 * S, z_knee, z_knee + 0.08 * T, z_top};
+  const MonotoneCubic girth(zs, {d.ankle_girth * gs, d.calf_girth * gs, d.knee_girth * gs, d.lower_thigh_girth * gs,
+                                 d.upper_thigh_girth * gs});
+  const MonotoneCubic ratio(zs, {0.85, 0.92, 0.90, 0.92, 0.95});
+  const MonotoneCubic offset(zs, {-0.005 * gs, -0.015 * gs, 0.005 * gs, 0.0, -0.010 * gs});
+  // The thigh's section at height z: centre offset, semi-axes (AP, ML).
+  auto section = [&](double z, double& cx, double& a, double& b) {
+    z = std::clamp(z, z_ankle, z_top);
+    const double r = ratio(z);
+    b = semi_axis_for_girth(girth(z), r);
+    a = r * b;
+    cx = offset(z);
+  };
+  const double x_heel = -d.heel_to_ankle_frac * L;
+  auto tube = [&](const Vec3& x) {
+    double cx, a, b;
+    section(x.z(), cx, a, b);
+    double f = ellipse_field(x.x() - cx, x.y(), a, b);
+    f = smooth_max(f, z_ankle - x.z(), 0.01);  // the tube ends in the foot
+    return f;
+  };
+  auto foot = [&](const Vec3& x) {
+    const double heel = ellipsoid_field(x, Vec3(x_heel + 0.17 * L, 0.0, 0.14 * L), Vec3(0.17 * L, 0.5 * Bh, 0.16 * L));
+    const double mid = ellipsoid_field(x, Vec3(x_heel + 0.50 * L, 0.0, 0.11 * L), Vec3(0.30 * L, 0.45 * B, 0.13 * L));
+    const double fore = ellipsoid_field(x, Vec3(x_heel + 0.80 * L, 0.0, 0.07 * L), Vec3(0.20 * L, 0.50 * B, 0.09 * L));
+    return smooth_min(smooth_min(heel, mid, 0.025 * ls), fore, 0.025 * ls);
+  };
+  const ScalarField skin_field = [&](const Vec3& x) {
+    double f = smooth_min(tube(x), foot(x), 0.03 * ls);
+    f = smooth_max(f, x.z() - z_top, 0.01 * ls);  // cut at hip-joint height
+    f = smooth_max(f, -x.z(), 0.008 * ls);        // the sole
+    return f;
+  };
+
+  // ---- Bones (sizes scale with stature). --------------------------------
+  const double rf = 0.5 * d.femur_shaft_diameter * ls, rt = 0.5 * d.tibia_shaft_diameter * ls;
+  const double rfib = 0.5 * d.fibula_diameter * ls;
+  // The knee cap sits in front of the trochlea (the condyles' front) with a
+  // 4 mm gap; in a slim knee it keeps 3 mm of tissue under the skin and the
+  // trochlea gives way behind it.
+  const double tp = d.patella_thickness * ls, z_patella = z_knee + 0.03 * ls;
+  double cx_k, a_k, b_k;
+  section(z_patella, cx_k, a_k, b_k);
+  const double patella_x = std::min(0.026 * ls + 0.004 * ls + 0.5 * tp, cx_k + a_k - 0.5 * tp - 0.003);
+  const double condyle_ap = std::min(0.026 * ls, patella_x - 0.5 * tp - 0.003);
+  const ScalarField femur_field = [&](const Vec3& x) {
+    const double shaft = capsule_field(x, Vec3(0, 0, z_knee + 0.06 * ls), Vec3(0, 0, z_top - 0.07 * ls), rf);
+    const double head = ellipsoid_field(x, Vec3(-0.005 * ls, 0, z_top - 0.06 * ls), Vec3(0.022, 0.028, 0.035) * ls);
+    const double condyles = ellipsoid_field(x, Vec3(0, 0, z_knee + 0.028 * ls),
+                                            Vec3(condyle_ap, 0.5 * d.femur_bicondylar_breadth * ls, 0.024 * ls));
+    return smooth_min(smooth_min(shaft, head, 0.02 * ls), condyles, 0.02 * ls);
+  };
+  const Vec3 patella_centre(patella_x, 0.0, z_patella);
+  // At the ankle the malleoli lie just under the skin: the fibula's lower end
+  // and the tibia's distal width keep 4 mm of tissue to the skin's section
+  // whatever the girth.
+  const double z_fib = z_ankle + 0.015 * ls, z_dist = z_ankle + 0.012 * ls;
+  double cx_a, a_a, b_fib, b_dist;
+  section(z_fib, cx_a, a_a, b_fib);
+  section(z_dist, cx_a, a_a, b_dist);
+  const double y_fib = std::min(0.026 * ls, b_fib - rfib - 0.004);
+  const double distal_y = std::min(0.025 * ls, b_dist - 0.004 * ls - 0.004);
+  if (condyle_ap < 0.013 * ls || distal_y < 0.0125 * ls || y_fib < rt) {
+    std::ostringstream m;
+    m << "leg (stature " << p.stature << " m, mass " << p.mass << " kg): the knee and ankle girths (" << girth(z_patella)
+      << " m, " << girth(z_dist) << " m) are too small for bones of this stature; raise the mass";
+    throw Error(m.str());
+  }
+  const ScalarField lower_field = [&](const Vec3& x) {
+    const double k = 0.01 * ls;
+    const double plateau = ellipsoid_field(x, Vec3(0, 0, z_knee - 0.026 * ls),
+                                           Vec3(0.028 * ls, 0.5 * d.tibia_plateau_breadth * ls, 0.02 * ls));
+    const double shaft = capsule_field(x, Vec3(0, 0, z_knee - 0.03 * ls), Vec3(0, 0, z_ankle + 0.03 * ls), rt);
+    const double distal =
+        ellipsoid_field(x, Vec3(0, -0.004 * ls, z_dist), Vec3(0.020 * ls, distal_y, 0.018 * ls));
+    const double fibula = capsule_field(x, Vec3(-0.008 * ls, 0.028 * ls, z_knee - 0.035 * ls),
+                                        Vec3(-0.008 * ls, y_fib, z_fib), rfib);
+    const double talus = ellipsoid_field(x, Vec3(x_heel + 0.20 * L, 0, 0.13 * L), Vec3(0.16 * L, 0.22 * B, 0.09 * L));
+    const double metatarsals =
+        ellipsoid_field(x, Vec3(x_heel + 0.58 * L, 0, 0.075 * L), Vec3(0.25 * L, 0.30 * B, 0.04 * L));
+    const double patella = ellipsoid_field(
+        x, patella_centre, Vec3(0.5 * d.patella_thickness, 0.5 * d.patella_width, 0.5 * d.patella_height) * ls);
+    double f = smooth_min(plateau, shaft, k);
+    f = smooth_min(f, fibula, k);
+    f = smooth_min(f, distal, 1.5 * k);
+    f = smooth_min(f, talus, 1.5 * k);
+    f = smooth_min(f, metatarsals, k);
+    return std::min(f, patella);  // the knee cap: its own piece of the same rigid body
+  };
+
+  // ---- Muscles: spindles lofted from the thigh's sections. ---------------
+  // At height z a muscle's section is an ellipse placed and sized as fractions
+  // of the skin's section there (centre at cx + u a, semi-axes (p a, q b)),
+  // tapered along the thigh like an ellipsoid between z_lo and z_hi - so it
+  // stays inside the skin and off the other muscle for any body.
+  struct Spindle {
+    double u, p, q, z_lo, z_hi;
+  };
+  const Spindle front{0.45, 0.30, 0.55, z_knee + 0.16 * T, z_knee + 0.90 * T};
+  const Spindle back{-0.45, 0.32, 0.58, z_knee + 0.14 * T, z_knee + 0.86 * T};
+  auto spindle_field = [&](const Spindle& m, const Vec3& x) {
+    double cx, a, b;
+    section(x.z(), cx, a, b);
+    const double zc = 0.5 * (m.z_lo + m.z_hi), hz = 0.5 * (m.z_hi - m.z_lo);
+    const double A = m.p * a, Bm = m.q * b;
+    return (std::sqrt(std::pow((x.x() - cx - m.u * a) / A, 2) + std::pow(x.y() / Bm, 2) +
+                      std::pow((x.z() - zc) / hz, 2)) -
+            1.0) *
+           std::min(A, Bm);
+  };
+  auto muscle_x = [&](const Spindle& m, double z) {
+    double cx, a, b;
+    section(z, cx, a, b);
+    return cx + m.u * a;
+  };
+  const ScalarField front_field = [&](const Vec3& x) { return spindle_field(front, x); };
+  const ScalarField back_field = [&](const Vec3& x) { return spindle_field(back, x); };
+
+  // ---- Surfaces. ---------------------------------------------------------
+  const double margin = 0.03 * ls;
+  const double half_width = std::max({0.5 * d.upper_thigh_girth * gs / kPi, 0.6 * B, 0.06 * ls}) + margin;
+  ImplicitMeshOptions o;
+  o.cell = p.skin_cell;
+  o.lo = Vec3(x_heel - half_width, -half_width, -margin);
+  o.hi = Vec3(x_heel + L + margin, half_width, z_top + margin);
+  o.lo.x() = std::min(o.lo.x(), -half_width);
+  o.hi.x() = std::max(o.hi.x(), half_width);
+  leg.skin = mesh_implicit_surface(skin_field, o);
+  o.cell = 0.5 * p.skin_cell;
+  leg.upper_bone = mesh_implicit_surface(femur_field, o);
+  leg.lower_bone = mesh_implicit_surface(lower_field, o);
+  leg.front_muscle = mesh_implicit_surface(front_field, o);
+  leg.back_muscle = mesh_implicit_surface(back_field, o);
+
+  // ---- Tendon paths (muscle end first), strands as in thesis 4.5. --------
+  leg.tendons = {
+      {"back_upper", "back_muscle", "upper_bone", 8,
+       {Vec3(muscle_x(back, z_knee + 0.84 * T), 0, z_knee + 0.84 * T), Vec3(-0.012 * ls, 0, z_top - 0.06 * ls)}},
+      {"back_lower", "back_muscle", "lower_bone", 6,
+       {Vec3(muscle_x(back, z_knee + 0.16 * T), 0, z_knee + 0.16 * T), Vec3(-0.045 * gs, 0, z_knee),
+        Vec3(-0.008 * ls, 0, z_knee - 0.05 * ls)}},
+      {"front_upper", "front_muscle", "upper_bone", 6,
+       {Vec3(muscle_x(front, z_knee + 0.88 * T), 0, z_knee + 0.88 * T), Vec3(0.012 * ls, 0, z_top - 0.07 * ls)}},
+      {"front_lower", "front_muscle", "lower_bone", 6,
+       {Vec3(muscle_x(front, z_knee + 0.18 * T), 0, z_knee + 0.18 * T), Vec3(patella_centre.x(), 0, z_knee + 0.03 * ls),
+        Vec3(0.010 * ls, 0, z_knee - 0.06 * ls)}},
+  };
+
+  LimbSurfaces check;
+  check.skin = leg.skin;
+  check.inner = {{kUpperBone, leg.upper_bone},
+                 {kLowerBone, leg.lower_bone},
+                 {kFrontMuscle, leg.front_muscle},
+                 {kBackMuscle, leg.back_muscle}};
+  std::ostringstream who;
+  who << "leg (stature " << p.stature << " m, mass " << p.mass << " kg)";
+  for (int r : {kPassiveTissue, kUpperBone, kLowerBone, kFrontMuscle, kBackMuscle})
+    check.source[r] = who.str();
+  validate_limb(check);
+  return leg;
+}
+
+void write_leg(const LegGeometry& leg, const LegParameters& p, double spacing, const std::string& dir) {
+  namespace fs = std::filesystem;
+  fs::create_directories(dir);
+  auto put = [&](const std::string& name, const TriangleMesh& m) {
+    const fs::path path = fs::path(dir) / name;
+    write_obj(path.string() + ".partial", m);
+    fs::rename(path.string() + ".partial", path);
+  };
+  put("skin.obj", leg.skin);
+  put("upper_bone.obj", leg.upper_bone);
+  put("lower_bone.obj", leg.lower_bone);
+  put("front_muscle.obj", leg.front_muscle);
+  put("back_muscle.obj", leg.back_muscle);
+
+  const double z = leg.knee_height, ls = p.stature / p.dims.reference_stature;
+  std::ostringstream y;
+  y << std::setprecision(6);
+  y << "# Generated by `tissuebench leg-geometry --stature " << p.stature << " --mass " << p.mass
+    << "` (msd/geometry/leg_generator.hpp);\n# dimensions and sources: docs/leg-geometry.md. "
+    << "Mesh it: tissuebench mesh THIS_FILE --out DIR\n";
+  y << "name: leg\n";
+  y << "description: parametric leg, stature " << p.stature << " m, mass " << p.mass << " kg; knee centre [0, 0, "
+    << z << "], axis +y\n";
+  y << "leg:\n  skin: skin.obj\n  upper_bone: upper_bone.obj\n  lower_bone: lower_bone.obj\n"
+    << "  front_muscle: front_muscle.obj\n  back_muscle: back_muscle.obj\n";
+  y << "mesh:\n  spacing: " << spacing << "\n  rule: centre\n";
+  y << "  pull:\n    - {name: behind_knee, lo: [" << -0.12 * ls << ", " << -0.10 * ls << ", " << z - 0.08 * ls
+    << "], hi: [" << -0.02 * ls << ", " << 0.10 * ls << ", " << z + 0.08 * ls << "]}\n";
+  y << "tendons:\n";
+  for (const LegTendon& t : leg.tendons) {
+    y << "  - {name: " << t.name << ", muscle: " << t.muscle << ", bone: " << t.bone << ", strands: " << t.strands
+      << ",\n     path: [";
+    for (size_t k = 0; k < t.path.size(); ++k)
+      y << (k ? ", " : "") << "[" << t.path[k].x() << ", " << t.path[k].y() << ", " << t.path[k].z() << "]";
+    y << "]}\n";
+  }
+  const fs::path scene = fs::path(dir) / "leg.yaml";
+  {
+    std::ofstream out(scene.string() + ".partial");
+    out << y.str();
+    if (!out) throw Error(scene.string() + ": write failed");
+  }
+  fs::rename(scene.string() + ".partial", scene);
+}
+
+}  // namespace msd

@@ -1,0 +1,177 @@
+// The parametric leg: closed, nested surfaces at the thesis' skin resolution,
+// the anthropometric girths and heights it was built from (measured on the
+// mesh), scaling by stature and mass, tendon paths that start in their muscle
+// and end in their bone, and the shipped files equal to what it generates.
+#include "msd/geometry/leg_generator.hpp"
+
+#include "msd/geometry/inside_test.hpp"
+#include "msd/mesh/limb_mesher.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace {
+
+// Perimeter of the surface's section by the plane z = h (sum of the segments
+// the triangles cut from it).
+double girth_at(const msd::TriangleMesh& m, double h) {
+  double total = 0.0;
+  for (const msd::Tri& t : m.triangles) {
+    msd::Vec3 cut[3];
+    int n = 0;
+    for (int e = 0; e < 3; ++e) {
+      const msd::Vec3 a = m.vertices.col(t[e]), b = m.vertices.col(t[(e + 1) % 3]);
+      if ((a.z() - h) * (b.z() - h) < 0.0) cut[n++] = a + (h - a.z()) / (b.z() - a.z()) * (b - a);
+    }
+    if (n == 2) total += (cut[1] - cut[0]).norm();
+  }
+  return total;
+}
+
+const msd::LegGeometry& default_leg() {
+  static const msd::LegGeometry leg = msd::make_leg(msd::LegParameters{});
+  return leg;
+}
+
+}  // namespace
+
+TEST(LegGenerator, SurfacesAreClosedNestedAndAtTheThesisResolution) {
+  const msd::LegGeometry& leg = default_leg();
+  // make_leg has validated them as a limb (closed, manifold, outward, nested,
+  // not overlapping); check it again here so the test does not rest on that.
+  msd::LimbSurfaces s;
+  s.skin = leg.skin;
+  s.inner = {{msd::kUpperBone, leg.upper_bone},
+             {msd::kLowerBone, leg.lower_bone},
+             {msd::kFrontMuscle, leg.front_muscle},
+             {msd::kBackMuscle, leg.back_muscle}};
+  EXPECT_NO_THROW(msd::validate_limb(s));
+  // The thesis' scan: 15,338 triangles at about 1.2 cm.
+  EXPECT_GT(leg.skin.num_triangles(), 12000);
+  EXPECT_LT(leg.skin.num_triangles(), 20000);
+  // Volumes of a real leg's parts (order of magnitude: a leg ~ 10-15 L, femur ~ 0.3-0.6 L).
+  EXPECT_GT(msd::enclosed_volume(leg.skin), 0.008);
+  EXPECT_LT(msd::enclosed_volume(leg.skin), 0.020);
+  EXPECT_GT(msd::enclosed_volume(leg.upper_bone), 0.0002);
+  EXPECT_LT(msd::enclosed_volume(leg.upper_bone), 0.0008);
+}
+
+TEST(LegGenerator, MeasuredDimensionsAreTheAnthropometryItWasBuiltFrom) {
+  const msd::LegParameters p;
+  const msd::LegDimensions& d = p.dims;
+  const msd::LegGeometry& leg = default_leg();
+  const msd::Aabb box = msd::bounding_box(leg.skin);
+  EXPECT_NEAR(box.hi.z(), d.hip_height_frac * p.stature, 0.005);
+  EXPECT_NEAR(box.lo.z(), 0.0, 0.003);
+  // The foot: heel to toe along the sole.
+  double heel = 1.0, toe = -1.0;
+  for (int v = 0; v < leg.skin.num_vertices(); ++v)
+    if (leg.skin.vertices(2, v) < 0.02) {
+      heel = std::min(heel, leg.skin.vertices(0, v));
+      toe = std::max(toe, leg.skin.vertices(0, v));
+    }
+  EXPECT_NEAR(toe - heel, d.foot_length, 0.01);
+  EXPECT_NEAR(leg.knee_height, d.knee_height_frac * p.stature, 1e-12);
+  const double S = leg.knee_height - leg.ankle_height;
+  // Girths where they were measured, within 2% (the mesh is a polygonal section).
+  EXPECT_NEAR(girth_at(leg.skin, leg.knee_height), d.knee_girth, 0.02 * d.knee_girth);
+  EXPECT_NEAR(girth_at(leg.skin, leg.knee_height - 0.30 * S), d.calf_girth, 0.02 * d.calf_girth);
+  EXPECT_NEAR(girth_at(leg.skin, leg.ankle_height + 0.12 * S), d.ankle_girth, 0.02 * d.ankle_girth);
+  const double T = leg.hip_height - leg.knee_height;
+  EXPECT_NEAR(girth_at(leg.skin, leg.knee_height + 0.08 * T), d.lower_thigh_girth, 0.02 * d.lower_thigh_girth);
+  // The femur's shaft and the knee's hinge axis through the gap between the bones.
+  EXPECT_NEAR(girth_at(leg.upper_bone, leg.knee_height + 0.15), 3.14159265 * d.femur_shaft_diameter,
+              0.03 * 3.14159265 * d.femur_shaft_diameter);
+  const msd::InsideTest femur(leg.upper_bone), lower(leg.lower_bone);
+  EXPECT_FALSE(femur.inside(leg.knee_centre));
+  EXPECT_FALSE(lower.inside(leg.knee_centre));
+  EXPECT_TRUE(femur.inside(leg.knee_centre + msd::Vec3(0, 0, 0.02)));
+  EXPECT_TRUE(lower.inside(leg.knee_centre - msd::Vec3(0, 0, 0.02)));
+}
+
+TEST(LegGenerator, ScalesLengthsWithStatureAndGirthsWithMass) {
+  msd::LegParameters small;
+  small.stature = 1.60;
+  small.mass = 55.0;
+  const msd::LegGeometry leg = msd::make_leg(small);
+  const msd::LegDimensions& d = small.dims;
+  const double ls = small.stature / d.reference_stature;
+  const double gs = std::sqrt((small.mass / d.reference_mass) / ls);
+  EXPECT_NEAR(leg.girth_scale, gs, 1e-12);
+  EXPECT_NEAR(msd::bounding_box(leg.skin).hi.z(), d.hip_height_frac * small.stature, 0.005);
+  const double S = leg.knee_height - leg.ankle_height;
+  EXPECT_NEAR(leg.ankle_height, d.ankle_height * ls, 1e-12);
+  EXPECT_NEAR(girth_at(leg.skin, leg.knee_height - 0.30 * S), gs * d.calf_girth, 0.02 * gs * d.calf_girth);
+  // Volume: girth^2 x length, i.e. proportional to mass for the soft parts.
+  const double v0 = msd::enclosed_volume(default_leg().skin), v = msd::enclosed_volume(leg.skin);
+  EXPECT_NEAR(v / v0, gs * gs * ls, 0.08 * gs * gs * ls);  // the foot scales with stature only
+}
+
+TEST(LegGenerator, BodiesFromSlimToHeavyAllBuildValidLimbs) {
+  // Statures 1.5-1.95 m, body-mass index 19-35: every surface closed and nested
+  // (make_leg validates the limb and throws otherwise).
+  const std::pair<double, double> bodies[] = {{1.50, 43.0}, {1.65, 95.0}, {1.80, 62.0}, {1.95, 110.0}, {1.95, 72.0}};
+  for (const auto& [stature, mass] : bodies) {
+    msd::LegParameters p;
+    p.stature = stature;
+    p.mass = mass;
+    p.skin_cell = 0.024;  // coarse: the shapes, not the resolution, are under test
+    EXPECT_NO_THROW(msd::make_leg(p)) << stature << " m, " << mass << " kg";
+  }
+}
+
+TEST(LegGenerator, TendonPathsStartInTheirMuscleAndEndInTheirBone) {
+  const msd::LegGeometry& leg = default_leg();
+  ASSERT_EQ(leg.tendons.size(), 4u);
+  const std::map<std::string, const msd::TriangleMesh*> surfaces{{"upper_bone", &leg.upper_bone},
+                                                                 {"lower_bone", &leg.lower_bone},
+                                                                 {"front_muscle", &leg.front_muscle},
+                                                                 {"back_muscle", &leg.back_muscle}};
+  int strands = 0;
+  for (const msd::LegTendon& t : leg.tendons) {
+    EXPECT_TRUE(msd::InsideTest(*surfaces.at(t.muscle)).inside(t.path.front())) << t.name;
+    EXPECT_TRUE(msd::InsideTest(*surfaces.at(t.bone)).inside(t.path.back())) << t.name;
+    strands += t.strands;
+  }
+  EXPECT_EQ(strands, 8 + 6 + 6 + 6);  // thesis 4.5
+}
+
+TEST(LegGenerator, UnphysicalParametersAreNamed) {
+  auto error_of = [](const msd::LegParameters& p) {
+    try {
+      msd::make_leg(p);
+    } catch (const msd::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  msd::LegParameters p;
+  p.stature = 3.0;
+  EXPECT_NE(error_of(p).find("stature"), std::string::npos);
+  p = {};
+  p.mass = -1.0;
+  EXPECT_NE(error_of(p).find("mass"), std::string::npos);
+  p = {};
+  p.skin_cell = 0.5;
+  EXPECT_NE(error_of(p).find("skin_cell"), std::string::npos);
+  p = {};
+  p.mass = 31.0;  // a tall, very light body: the bones no longer fit in the skin
+  p.stature = 2.2;
+  EXPECT_NE(error_of(p).find("leg (stature 2.2 m, mass 31 kg)"), std::string::npos) << error_of(p);
+}
+
+TEST(LegGenerator, ShippedFilesAreWhatTheGeneratorWrites) {
+  const msd::LegGeometry& leg = default_leg();
+  const std::string dir = std::string(TISSUEBENCH_DATA_DIR) + "/leg/";
+  const std::pair<const char*, const msd::TriangleMesh*> files[] = {{"skin.obj", &leg.skin},
+                                                                     {"upper_bone.obj", &leg.upper_bone},
+                                                                     {"lower_bone.obj", &leg.lower_bone},
+                                                                     {"front_muscle.obj", &leg.front_muscle},
+                                                                     {"back_muscle.obj", &leg.back_muscle}};
+  for (const auto& [name, mesh] : files) {
+    const msd::TriangleMesh shipped = msd::read_obj(dir + name);
+    ASSERT_EQ(shipped.triangles, mesh->triangles) << name << ": regenerate with `tissuebench leg-geometry`";
+    EXPECT_LT((shipped.vertices - mesh->vertices).cwiseAbs().maxCoeff(), 1e-9) << name;
+  }
+}
