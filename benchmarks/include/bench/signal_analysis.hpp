@@ -1,7 +1,8 @@
 // Frequency and damping of a ringing signal (vibration benchmarks): the period
 // from linearly interpolated upward zero crossings (about the signal's final
 // mean), the damping ratio from the logarithmic decrement of successive
-// positive peaks.
+// positive peaks - both over the part of the signal whose peaks stay above 2%
+// of the first (below that, the offset's estimate dominates what is left).
 #pragma once
 
 #include <vector>
