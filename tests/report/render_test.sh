@@ -3,9 +3,9 @@
 # through `tissuebench suite`, opens DIR/report/index.html in headless Chromium
 # and checks that every image loaded (the page records loaded/total images on
 # <body data-images>) and that the console stayed silent; checks summary.md;
-# keeps a screenshot (OUT/screenshot.png) for a person to look at. A negative
-# control - the same page with a missing image and a console error - must be
-# caught, so the check itself can fail.
+# keeps a screenshot (OUT/screenshot.png) for a person to look at. Two negative
+# controls - the same page with a missing image, and with a console error -
+# must each be caught, so each check can fail.
 # Usage: render_test.sh TISSUEBENCH SOURCE_ROOT OUT_DIR
 set -euo pipefail
 tb="$1" root="$2" out="$3"
@@ -47,12 +47,15 @@ chrome --window-size=1200,4200 --screenshot="$out/screenshot.png" "file://$repor
 [[ -s "$out/screenshot.png" ]] || { echo "FAIL: no screenshot"; exit 1; }
 echo "screenshot: $out/screenshot.png"
 
-# Negative control: a broken image and a console error must both be caught.
-sed -e 's|</body>|<img src="missing.png" alt="missing"><script>console.error("deliberate")</script></body>|' \
-  "$report" > "$out/suite/report/broken.html"
-if check_page "$out/suite/report/broken.html" > "$out/control.log"; then
-  cat "$out/control.log"
-  echo "FAIL: the check passed a page with a missing image and a console error"
-  exit 1
-fi
-echo "ok: the negative control was caught"
+# Negative controls, one fault per page so each check is shown to fail on its
+# own: a missing image, and a console error on a page whose images all load.
+sed -e 's|</body>|<img src="missing.png" alt="missing"></body>|' "$report" > "$out/suite/report/broken_image.html"
+sed -e 's|</body>|<script>console.error("deliberate")</script></body>|' "$report" > "$out/suite/report/console_error.html"
+for control in broken_image console_error; do
+  if check_page "$out/suite/report/$control.html" > "$out/control_$control.log"; then
+    cat "$out/control_$control.log"
+    echo "FAIL: the check passed the negative control $control.html"
+    exit 1
+  fi
+  echo "ok: the negative control $control was caught: $(head -n 1 "$out/control_$control.log")"
+done
