@@ -12,16 +12,7 @@
 
 namespace {
 
-msd::LimbSurfaces shipped_leg() {
-  const std::string dir = std::string(TISSUEBENCH_DATA_DIR) + "/leg/";
-  msd::LimbSurfaces s;
-  s.skin = msd::read_obj(dir + "skin.obj");
-  s.inner[msd::kUpperBone] = msd::read_obj(dir + "upper_bone.obj");
-  s.inner[msd::kLowerBone] = msd::read_obj(dir + "lower_bone.obj");
-  s.inner[msd::kFrontMuscle] = msd::read_obj(dir + "front_muscle.obj");
-  s.inner[msd::kBackMuscle] = msd::read_obj(dir + "back_muscle.obj");
-  return s;
-}
+msd::LimbSurfaces shipped_leg() { return msd::read_leg_surfaces(std::string(TISSUEBENCH_DATA_DIR) + "/leg"); }
 
 void BM_GenerateLeg(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(msd::make_leg(msd::LegParameters{}));

@@ -263,6 +263,35 @@ LegGeometry make_leg(const LegParameters& p) {
   return leg;
 }
 
+LimbSurfaces read_leg_surfaces(const std::string& dir) {
+  LimbSurfaces s;
+  const std::pair<int, const char*> files[] = {{kPassiveTissue, "skin.obj"},
+                                               {kUpperBone, "upper_bone.obj"},
+                                               {kLowerBone, "lower_bone.obj"},
+                                               {kFrontMuscle, "front_muscle.obj"},
+                                               {kBackMuscle, "back_muscle.obj"}};
+  for (const auto& [region, name] : files) {
+    const std::string path = (std::filesystem::path(dir) / name).string();
+    s.source[region] = path;
+    (region == kPassiveTissue ? s.skin : s.inner[region]) = read_obj(path);
+  }
+  return s;
+}
+
+std::vector<TendonPathSpec> tendon_path_specs(const LegGeometry& leg) {
+  std::vector<TendonPathSpec> out;
+  for (const LegTendon& t : leg.tendons) {
+    TendonPathSpec spec;
+    spec.name = t.name;
+    spec.muscle = t.muscle == "front_muscle" ? kFrontMuscle : kBackMuscle;
+    spec.bone = t.bone == "upper_bone" ? kUpperBone : kLowerBone;
+    spec.strands = t.strands;
+    spec.path = t.path;
+    out.push_back(spec);
+  }
+  return out;
+}
+
 void write_leg(const LegGeometry& leg, const LegParameters& p, double spacing, const std::string& dir) {
   namespace fs = std::filesystem;
   fs::create_directories(dir);

@@ -4,6 +4,8 @@
 // stiffness, and a muscle's units add no net force.
 #include "msd/scene/leg_model.hpp"
 
+#include "msd/geometry/leg_generator.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,35 +19,15 @@ struct ShippedLeg {
   std::vector<msd::TendonStrands> tendons;
 };
 
-// The shipped leg meshed at the thesis' resolution with its four tendons
-// (paths as in msd/data/leg/leg.yaml).
+// The shipped leg meshed at the thesis' resolution with its four tendons (the
+// generator's paths: the shipped files are its output, LegGenerator tests).
 const ShippedLeg& shipped() {
   static const ShippedLeg leg = [] {
-    const std::string dir = std::string(TISSUEBENCH_DATA_DIR) + "/leg/";
-    msd::LimbSurfaces s;
-    s.skin = msd::read_obj(dir + "skin.obj");
-    s.inner[msd::kUpperBone] = msd::read_obj(dir + "upper_bone.obj");
-    s.inner[msd::kLowerBone] = msd::read_obj(dir + "lower_bone.obj");
-    s.inner[msd::kFrontMuscle] = msd::read_obj(dir + "front_muscle.obj");
-    s.inner[msd::kBackMuscle] = msd::read_obj(dir + "back_muscle.obj");
     msd::LimbMeshOptions o;
     o.spacing = 0.0245;
-    ShippedLeg l{msd::mesh_limb(s, o), {}};
-    auto tendon = [&](const char* name, int muscle, int bone, int strands, std::vector<msd::Vec3> path) {
-      msd::TendonPathSpec t;
-      t.name = name;
-      t.muscle = muscle;
-      t.bone = bone;
-      t.strands = strands;
-      t.path = std::move(path);
+    ShippedLeg l{msd::mesh_limb(msd::read_leg_surfaces(std::string(TISSUEBENCH_DATA_DIR) + "/leg"), o), {}};
+    for (const msd::TendonPathSpec& t : msd::tendon_path_specs(msd::make_leg(msd::LegParameters{})))
       l.tendons.push_back(msd::route_tendon(l.mesh, t));
-    };
-    tendon("back_upper", msd::kBackMuscle, msd::kUpperBone, 8, {{-0.0498, 0, 0.8618}, {-0.012, 0, 0.8707}});
-    tendon("back_lower", msd::kBackMuscle, msd::kLowerBone, 6,
-           {{-0.0317, 0, 0.5693}, {-0.045, 0, 0.5005}, {-0.008, 0, 0.4505}});
-    tendon("front_upper", msd::kFrontMuscle, msd::kUpperBone, 6, {{0.0325, 0, 0.8791}, {0.012, 0, 0.8607}});
-    tendon("front_lower", msd::kFrontMuscle, msd::kLowerBone, 6,
-           {{0.0270, 0, 0.5779}, {0.0472, 0, 0.5305}, {0.01, 0, 0.4405}});
     return l;
   }();
   return leg;

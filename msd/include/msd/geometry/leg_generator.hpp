@@ -16,6 +16,8 @@
 #pragma once
 
 #include "msd/geometry/triangle_mesh.hpp"
+#include "msd/mesh/limb_mesher.hpp"
+#include "msd/mesh/tendon_paths.hpp"
 
 #include <string>
 #include <vector>
@@ -92,5 +94,12 @@ LegGeometry make_leg(const LegParameters& params);
 /// into `dir` (created if missing). Each file is written under a temporary
 /// name and moved into place.
 void write_leg(const LegGeometry& leg, const LegParameters& params, double spacing, const std::string& dir);
+
+/// Reads the five surfaces write_leg writes (skin.obj, upper_bone.obj, ...)
+/// from `dir` as a limb, each region's source naming its file.
+LimbSurfaces read_leg_surfaces(const std::string& dir);
+
+/// The tendon paths as the limb mesher's routing input.
+std::vector<TendonPathSpec> tendon_path_specs(const LegGeometry& leg);
 
 }  // namespace msd
