@@ -65,6 +65,12 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
       leg.strands.push_back(ls);
     }
   }
+  leg.tets = m.mesh.tets;
+  leg.free_nodes.resize(leg.attached.size());
+  for (size_t i = 0; i < leg.attached.size(); ++i) leg.free_nodes[i] = leg.attached[i] == 0;
+  if (o.knee_contact_box)
+    leg.knee_contact = make_self_contact_region(m.mesh, "behind the knee", o.knee_contact_box->first,
+                                                o.knee_contact_box->second, o.knee_centre, o.leg_axis);
   leg.front_units = contractile_units(m.mesh, kFrontMuscle, o.front_line, o.unit_angle_deg);
   leg.back_units = contractile_units(m.mesh, kBackMuscle, o.back_line, o.unit_angle_deg);
   leg.front_unit_force = unit_force(m.mesh, kFrontMuscle, leg.front_units, o.front_line, 1.0, o.max_muscle_stress);
@@ -127,6 +133,9 @@ void step_leg(const LegModel& model, LegState& state, const LegControls& c, doub
     ts.x.col(i) = tm.rest_positions.col(i);
     ts.v.col(i).setZero();
   }
+  scratch.knee_contact = model.knee_contact
+                             ? resolve_self_contact(*model.knee_contact, model.tets, ts.x, ts.v, model.free_nodes)
+                             : SelfContactReport{};
   ts.t += dt;
   ++ts.step;
   if (!ts.x.allFinite() || !ts.v.allFinite() || !std::isfinite(state.knee.angle)) {

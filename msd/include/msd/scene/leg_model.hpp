@@ -8,7 +8,9 @@
 //  - lower-bone nodes (its tet nodes and bone points) follow the hinge exactly,
 //    x = c + R(theta)(X - c) (msd/skeleton/hinge.hpp);
 //  - every other node is integrated by semi-implicit Euler under the tissue's
-//    internal forces, the tendons, the muscles and gravity.
+//    internal forces, the tendons, the muscles and gravity; then, where the
+//    scene names a region behind the knee, skin nodes that entered the other
+//    side's tissue are put back on its surface (msd/contact/self_contact.hpp).
 // The hinge is driven by the torque about its axis of everything acting on
 // the lower-bone nodes - tissue forces from the free nodes around them, tendon
 // pulls, the nodes' own weight - plus the bone's weight and an added joint
@@ -19,6 +21,7 @@
 // add no torque.
 #pragma once
 
+#include "msd/contact/self_contact.hpp"
 #include "msd/forces/muscle_units.hpp"
 #include "msd/integrate/step.hpp"
 #include "msd/mesh/limb_mesher.hpp"
@@ -49,6 +52,10 @@ struct LegModelOptions {
   double max_muscle_stress = 3.0e5;
   Vec3 front_line{Vec3::UnitZ()}, back_line{Vec3::UnitZ()};
   double unit_angle_deg = 30.0;
+  /// Skin against skin behind the knee (thesis 5.6): the box tested, split at
+  /// the knee's centre across the leg's axis. None: no collision work.
+  std::optional<std::pair<Vec3, Vec3>> knee_contact_box;
+  Vec3 leg_axis{Vec3::UnitZ()};  ///< thigh side = (x - knee centre) . axis >= 0
 };
 
 struct LegStrand {
@@ -67,6 +74,9 @@ struct LegModel {
   std::vector<LegStrand> strands;
   std::vector<ContractileUnit> front_units, back_units;
   double front_unit_force = 0.0, back_unit_force = 0.0;  ///< N per unit at activation 1
+  std::vector<Tet> tets;  ///< the mesh's tets (the contact test's solids)
+  std::optional<SelfContactRegion> knee_contact;
+  std::vector<char> free_nodes;  ///< per node: 1 where neither bone holds it
 };
 
 struct LegState {
@@ -86,6 +96,7 @@ struct LegScratch {
   Scratch tissue;
   std::vector<double> tendon_tension;  ///< per tendon: the sum over its strands (N)
   double knee_torque = 0.0;            ///< about the axis, N m
+  SelfContactReport knee_contact;      ///< skin against skin behind the knee
 };
 
 /// Compiles the leg. Throws msd::Error if a bone has no tets or bone points,

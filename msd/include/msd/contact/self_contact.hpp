@@ -1,0 +1,72 @@
+// Skin against skin (thesis 5.6: "prevent the parts of the skin surface above
+// and below the back of the knee joint from interpenetrating when the knee is
+// bent"): only a named collision region is tested, split into two sides by a
+// plane; each side's surface nodes are tested against the other side's tets.
+//
+// Detection: the thesis' inside-outside test of a node against the other
+// side's solid, here as "inside one of its tets" (all four barycentric
+// coordinates >= 0) and behind its closest boundary face (a node resting on
+// the surface touches, it does not penetrate), the tets found through a bounding-volume hierarchy of
+// their current boxes (AabbTree), rebuilt every call because the tets move.
+// Response (5.6.2): the node moves to the closest boundary face of the other
+// side along that face's outward normal, x += ((p0 - x) . n) n, and its
+// velocity is set to zero. The report counts contacts, the deepest
+// penetration, and the contact area (a third of the area of the faces around
+// each contacting node).
+#pragma once
+
+#include "msd/mesh/tet_mesh.hpp"
+
+#include <string>
+#include <vector>
+
+namespace msd {
+
+/// A bounding-volume hierarchy of axis-aligned boxes (median split along the
+/// longest axis, leaves of up to 4 boxes).
+class AabbTree {
+ public:
+  AabbTree() = default;
+  /// lo, hi: 3 x B, box b = [lo.col(b), hi.col(b)].
+  AabbTree(const Points& lo, const Points& hi);
+  /// Indices of the boxes containing p (closed boxes), in no particular order.
+  void query(const Vec3& p, std::vector<int>& out) const;
+
+ private:
+  struct Node {
+    Vec3 lo, hi;
+    int left = -1, right = -1;  ///< children, or -1 at a leaf
+    int begin = 0, end = 0;     ///< leaf: range in order_
+  };
+  int build(int begin, int end, const Points& centre);
+  std::vector<Node> nodes_;
+  std::vector<int> order_;
+  Points lo_, hi_;
+};
+
+struct SelfContactRegion {
+  std::string name;
+  std::vector<int> nodes[2];  ///< surface nodes of each side
+  std::vector<int> tets[2];   ///< tets of each side (mesh indices)
+  std::vector<Tri> faces[2];  ///< boundary faces of each side, outward
+};
+
+/// The region: boundary faces of the mesh (at rest) whose centroid lies in
+/// the box [lo, hi], and tets whose centroid does, each given to side 0 where
+/// (centroid - split_point) . split_normal >= 0, else side 1. Throws
+/// msd::Error naming the region if either side has no face.
+SelfContactRegion make_self_contact_region(const TetMesh& mesh, const std::string& name, const Vec3& lo,
+                                           const Vec3& hi, const Vec3& split_point, const Vec3& split_normal);
+
+struct SelfContactReport {
+  int contacts = 0;
+  double max_depth = 0.0;  ///< m
+  double area = 0.0;       ///< m^2
+};
+
+/// Detects and resolves the region's contacts at positions x (velocities v),
+/// moving only nodes with movable[node] != 0 (an empty `movable`: all).
+SelfContactReport resolve_self_contact(const SelfContactRegion& region, const std::vector<Tet>& tets, Points& x,
+                                       Points& v, const std::vector<char>& movable = {});
+
+}  // namespace msd
