@@ -12,15 +12,7 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
   check_material(o.passive, "leg: passive tissue");
   check_material(o.muscle, "leg: muscle");
   LegModel leg;
-  ModelOptions mo;
-  mo.terms = o.terms;
-  mo.nonlinear_threshold = o.nonlinear_threshold;
-  mo.gravity = o.gravity;
-  // Region labels 0..4: passive, front and back muscle, the bones (their tets
-  // move rigidly; any material will do, passive tissue's is used).
-  mo.region_materials = {o.passive, o.muscle, o.muscle, o.passive, o.passive};
-  leg.tissue = build_model(m.mesh, mo);
-
+  // Which bone holds each node: its tets' nodes and its bone points.
   const int n = m.mesh.num_nodes();
   leg.attached.assign(static_cast<size_t>(n), 0);
   for (size_t e = 0; e < m.mesh.tets.size(); ++e)
@@ -33,6 +25,32 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
     if (leg.attached[static_cast<size_t>(i)] == 1) leg.femur_nodes.push_back(i);
     if (leg.attached[static_cast<size_t>(i)] == 2) leg.lower_nodes.push_back(i);
   }
+  // The joint space: a tet with nodes on both bones would be crushed by any
+  // rotation of one about the other (the cubic mesh leaves a single cube of
+  // passive tissue between condyles and plateau), so it is left out - no
+  // tissue joins the two bones directly.
+  TetMesh tissue_mesh = m.mesh;
+  tissue_mesh.tets.clear();
+  tissue_mesh.region.clear();
+  for (size_t e = 0; e < m.mesh.tets.size(); ++e) {
+    unsigned bones = 0;
+    for (int v : m.mesh.tets[e]) bones |= leg.attached[static_cast<size_t>(v)];
+    if (bones == 3u) {
+      ++leg.joint_space_tets;
+      continue;
+    }
+    tissue_mesh.tets.push_back(m.mesh.tets[e]);
+    tissue_mesh.region.push_back(m.mesh.region[e]);
+  }
+  ModelOptions mo;
+  mo.terms = o.terms;
+  mo.nonlinear_threshold = o.nonlinear_threshold;
+  mo.gravity = o.gravity;
+  // Region labels 0..4: passive, front and back muscle, the bones (their tets
+  // move rigidly; any material will do, passive tissue's is used).
+  mo.region_materials = {o.passive, o.muscle, o.muscle, o.passive, o.passive};
+  leg.tissue = build_model(tissue_mesh, mo);
+
   if (leg.femur_nodes.empty()) throw Error("leg: the upper bone has no tets or bone points in the mesh");
   if (leg.lower_nodes.empty()) throw Error("leg: the lower bone has no tets or bone points in the mesh");
 
@@ -65,11 +83,11 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
       leg.strands.push_back(ls);
     }
   }
-  leg.tets = m.mesh.tets;
+  leg.tets = tissue_mesh.tets;
   leg.free_nodes.resize(leg.attached.size());
   for (size_t i = 0; i < leg.attached.size(); ++i) leg.free_nodes[i] = leg.attached[i] == 0;
   if (o.knee_contact_box)
-    leg.knee_contact = make_self_contact_region(m.mesh, "behind the knee", o.knee_contact_box->first,
+    leg.knee_contact = make_self_contact_region(tissue_mesh, "behind the knee", o.knee_contact_box->first,
                                                 o.knee_contact_box->second, o.knee_centre, o.leg_axis);
   leg.front_units = contractile_units(m.mesh, kFrontMuscle, o.front_line, o.unit_angle_deg);
   leg.back_units = contractile_units(m.mesh, kBackMuscle, o.back_line, o.unit_angle_deg);

@@ -61,6 +61,15 @@ TEST(LegModel, BonesOwnTheirNodesAndTheKneeCarriesTheLowerLegsInertia) {
   EXPECT_GT(leg.knee.inertia, 0.05);
   EXPECT_LT(leg.knee.inertia, 1.0);
   EXPECT_EQ(leg.strands.size(), 26u);
+  // The joint space: the tets with nodes on both bones are left out (45 on
+  // the shipped leg), and no remaining tet joins the two bones.
+  EXPECT_EQ(leg.joint_space_tets, 45);
+  EXPECT_EQ(static_cast<long>(leg.tets.size()) + leg.joint_space_tets, shipped().mesh.mesh.num_tets());
+  for (const msd::Tet& t : leg.tets) {
+    unsigned bones = 0;
+    for (int v : t) bones |= leg.attached[static_cast<size_t>(v)];
+    EXPECT_NE(bones, 3u);
+  }
   EXPECT_FALSE(leg.front_units.empty());
   EXPECT_FALSE(leg.back_units.empty());
   // At rest nothing moves: the lower leg placed at 0 is its rest geometry.
@@ -91,6 +100,36 @@ TEST(LegModel, ScriptedKneeMovesTheLowerLegRigidlyAndTheFemurHolds) {
   // Flexion carries the foot backwards (-x) and up.
   const int toe = leg.lower_nodes.front();
   EXPECT_LT(s.tissue.x(0, toe), leg.tissue.rest_positions(0, toe));
+}
+
+TEST(LegModel, KneeBentToNinetyDegreesCreasesTheSkinBehindIt) {
+  // Thesis 6.3: bending the knee brings the skin above and below the back of
+  // the knee into contact. A scripted flexion at 50 degrees/s to 90 degrees,
+  // with the collision region behind the knee.
+  msd::LegModelOptions o = options();
+  o.knee_contact_box = std::make_pair(msd::Vec3(-0.15, -0.12, 0.38), msd::Vec3(0.0, 0.12, 0.62));
+  const msd::LegModel leg = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  ASSERT_TRUE(leg.knee_contact.has_value());
+  msd::LegState s = msd::leg_rest_state(leg, 0.0);
+  msd::LegScratch scratch;
+  const double dt = 2e-4, rate = 50.0 * kDeg;
+  msd::LegControls c;
+  int contacts_below_60 = 0, contacts_at_90 = 0;
+  double area_at_90 = 0.0;
+  for (int k = 1; k <= 9500; ++k) {
+    const double angle = std::min(rate * k * dt, 90.0 * kDeg);
+    c.scripted_knee = msd::HingeState{angle, angle < 90.0 * kDeg ? rate : 0.0};
+    msd::step_leg(leg, s, c, dt, scratch);  // throws on a blow-up
+    if (angle < 60.0 * kDeg) contacts_below_60 += scratch.knee_contact.contacts;
+    if (angle >= 90.0 * kDeg) {
+      contacts_at_90 = std::max(contacts_at_90, scratch.knee_contact.contacts);
+      area_at_90 = std::max(area_at_90, scratch.knee_contact.area);
+    }
+  }
+  EXPECT_NEAR(s.knee.angle, 90.0 * kDeg, 1e-12);
+  EXPECT_EQ(contacts_below_60, 0);  // a straight-ish knee has no crease
+  EXPECT_GT(contacts_at_90, 0);     // a bent one has
+  EXPECT_GT(area_at_90, 1e-4);      // at least a square centimetre
 }
 
 TEST(LegModel, ReleasedLowerLegStartsToFallAtTheGravityTorqueOverItsInertia) {

@@ -18,7 +18,9 @@
 // bone density, exact) + sum of the attached nodes' m r^2. Or the angle is
 // scripted (kinematic override). Bone tets stay in the tissue model: their
 // internal forces are equal and opposite between nodes of one rigid body and
-// add no torque.
+// add no torque. Tets with nodes on both bones - the joint space, one cube
+// of passive tissue between condyles and plateau in the cubic mesh - are left
+// out: any rotation about the hinge would crush them.
 #pragma once
 
 #include "msd/contact/self_contact.hpp"
@@ -74,7 +76,8 @@ struct LegModel {
   std::vector<LegStrand> strands;
   std::vector<ContractileUnit> front_units, back_units;
   double front_unit_force = 0.0, back_unit_force = 0.0;  ///< N per unit at activation 1
-  std::vector<Tet> tets;  ///< the mesh's tets (the contact test's solids)
+  std::vector<Tet> tets;  ///< the tissue's tets (the contact test's solids)
+  long joint_space_tets = 0;  ///< tets left out because they had nodes on both bones
   std::optional<SelfContactRegion> knee_contact;
   std::vector<char> free_nodes;  ///< per node: 1 where neither bone holds it
 };
