@@ -108,7 +108,7 @@ bool inside_tet(const Points& x, const Tet& t, const Vec3& p) {
 }  // namespace
 
 SelfContactReport resolve_self_contact(const SelfContactRegion& r, const std::vector<Tet>& tets, Points& x,
-                                       Points& v, const std::vector<char>& movable) {
+                                       Points& v, const std::vector<char>& held) {
   SelfContactReport report;
   std::vector<int> candidates;
   for (int s = 0; s < 2; ++s) {
@@ -128,7 +128,7 @@ SelfContactReport resolve_self_contact(const SelfContactRegion& r, const std::ve
     }
     const AabbTree tree(lo, hi);
     for (int node : r.nodes[s]) {
-      if (!movable.empty() && !movable[static_cast<size_t>(node)]) continue;
+      if (!held.empty() && held[static_cast<size_t>(node)]) continue;
       const Vec3 p = x.col(node);
       tree.query(p, candidates);
       bool inside = false;

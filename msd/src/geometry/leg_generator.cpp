@@ -236,18 +236,28 @@ LegGeometry make_leg(const LegParameters& p) {
   leg.back_muscle = mesh_implicit_surface(back_field, o);
 
   // ---- Tendon paths (muscle end first), strands as in thesis 4.5. --------
-  leg.tendons = {
-      {"back_upper", "back_muscle", "upper_bone", 8,
-       {Vec3(muscle_x(back, z_knee + 0.84 * T), 0, z_knee + 0.84 * T), Vec3(-0.012 * ls, 0, z_top - 0.06 * ls)}},
-      {"back_lower", "back_muscle", "lower_bone", 6,
-       {Vec3(muscle_x(back, z_knee + 0.16 * T), 0, z_knee + 0.16 * T), Vec3(-0.045 * gs, 0, z_knee),
-        Vec3(-0.008 * ls, 0, z_knee - 0.05 * ls)}},
-      {"front_upper", "front_muscle", "upper_bone", 6,
-       {Vec3(muscle_x(front, z_knee + 0.88 * T), 0, z_knee + 0.88 * T), Vec3(0.012 * ls, 0, z_top - 0.07 * ls)}},
-      {"front_lower", "front_muscle", "lower_bone", 6,
-       {Vec3(muscle_x(front, z_knee + 0.18 * T), 0, z_knee + 0.18 * T), Vec3(patella_centre.x(), 0, z_knee + 0.03 * ls),
-        Vec3(0.010 * ls, 0, z_knee - 0.06 * ls)}},
+  auto tendon = [](const char* name, int muscle, int bone, int strands, std::vector<Vec3> path) {
+    TendonPathSpec t;
+    t.name = name;
+    t.muscle = muscle;
+    t.bone = bone;
+    t.strands = strands;
+    t.path = std::move(path);
+    return t;
   };
+  leg.tendons = {
+      tendon("back_upper", kBackMuscle, kUpperBone, 8,
+             {Vec3(muscle_x(back, z_knee + 0.84 * T), 0, z_knee + 0.84 * T), Vec3(-0.012 * ls, 0, z_top - 0.06 * ls)}),
+      tendon("back_lower", kBackMuscle, kLowerBone, 6,
+             {Vec3(muscle_x(back, z_knee + 0.16 * T), 0, z_knee + 0.16 * T), Vec3(-0.045 * gs, 0, z_knee),
+              Vec3(-0.008 * ls, 0, z_knee - 0.05 * ls)}),
+      tendon("front_upper", kFrontMuscle, kUpperBone, 6,
+             {Vec3(muscle_x(front, z_knee + 0.88 * T), 0, z_knee + 0.88 * T), Vec3(0.012 * ls, 0, z_top - 0.07 * ls)}),
+      tendon("front_lower", kFrontMuscle, kLowerBone, 6,
+             {Vec3(muscle_x(front, z_knee + 0.18 * T), 0, z_knee + 0.18 * T),
+              Vec3(patella_centre.x(), 0, z_knee + 0.03 * ls), Vec3(0.010 * ls, 0, z_knee - 0.06 * ls)}),
+  };
+
 
   LimbSurfaces check;
   check.skin = leg.skin;
@@ -276,20 +286,6 @@ LimbSurfaces read_leg_surfaces(const std::string& dir) {
     (region == kPassiveTissue ? s.skin : s.inner[region]) = read_obj(path);
   }
   return s;
-}
-
-std::vector<TendonPathSpec> tendon_path_specs(const LegGeometry& leg) {
-  std::vector<TendonPathSpec> out;
-  for (const LegTendon& t : leg.tendons) {
-    TendonPathSpec spec;
-    spec.name = t.name;
-    spec.muscle = t.muscle == "front_muscle" ? kFrontMuscle : kBackMuscle;
-    spec.bone = t.bone == "upper_bone" ? kUpperBone : kLowerBone;
-    spec.strands = t.strands;
-    spec.path = t.path;
-    out.push_back(spec);
-  }
-  return out;
 }
 
 void write_leg(const LegGeometry& leg, const LegParameters& p, double spacing, const std::string& dir) {
@@ -321,8 +317,9 @@ void write_leg(const LegGeometry& leg, const LegParameters& p, double spacing, c
   y << "  pull:\n    - {name: behind_knee, lo: [" << -0.12 * ls << ", " << -0.10 * ls << ", " << z - 0.08 * ls
     << "], hi: [" << -0.02 * ls << ", " << 0.10 * ls << ", " << z + 0.08 * ls << "]}\n";
   y << "tendons:\n";
-  for (const LegTendon& t : leg.tendons) {
-    y << "  - {name: " << t.name << ", muscle: " << t.muscle << ", bone: " << t.bone << ", strands: " << t.strands
+  for (const TendonPathSpec& t : leg.tendons) {
+    y << "  - {name: " << t.name << ", muscle: " << region_name(t.muscle) << ", bone: " << region_name(t.bone)
+      << ", strands: " << t.strands
       << ",\n     path: [";
     for (size_t k = 0; k < t.path.size(); ++k)
       y << (k ? ", " : "") << "[" << t.path[k].x() << ", " << t.path[k].y() << ", " << t.path[k].z() << "]";

@@ -84,8 +84,6 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
     }
   }
   leg.tets = tissue_mesh.tets;
-  leg.free_nodes.resize(leg.attached.size());
-  for (size_t i = 0; i < leg.attached.size(); ++i) leg.free_nodes[i] = leg.attached[i] == 0;
   if (o.knee_contact_box)
     leg.knee_contact = make_self_contact_region(tissue_mesh, "behind the knee", o.knee_contact_box->first,
                                                 o.knee_contact_box->second, o.knee_centre, o.leg_axis);
@@ -152,7 +150,7 @@ void step_leg(const LegModel& model, LegState& state, const LegControls& c, doub
     ts.v.col(i).setZero();
   }
   scratch.knee_contact = model.knee_contact
-                             ? resolve_self_contact(*model.knee_contact, model.tets, ts.x, ts.v, model.free_nodes)
+                             ? resolve_self_contact(*model.knee_contact, model.tets, ts.x, ts.v, model.attached)
                              : SelfContactReport{};
   ts.t += dt;
   ++ts.step;

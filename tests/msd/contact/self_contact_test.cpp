@@ -96,9 +96,9 @@ TEST(SelfContact, PenetratingNodeReturnsToTheOtherSidesSurfaceAndStops) {
   // block's node that its tets now engulf is the one pushed out instead.
   x = m.nodes;
   x(2, node) = 0.016;
-  std::vector<char> movable(static_cast<size_t>(m.num_nodes()), 1);
-  movable[static_cast<size_t>(node)] = 0;
-  rep = msd::resolve_self_contact(r, m.tets, x, v, movable);
+  std::vector<char> held(static_cast<size_t>(m.num_nodes()), 0);
+  held[static_cast<size_t>(node)] = 1;
+  rep = msd::resolve_self_contact(r, m.tets, x, v, held);
   EXPECT_NEAR(x(2, node), 0.016, 1e-15);
   const int below = node_at(m, {0.02, 0.02, 0.02});
   ASSERT_GE(below, 0);

@@ -124,12 +124,12 @@ TEST(LegGenerator, BodiesFromSlimToHeavyAllBuildValidLimbs) {
 TEST(LegGenerator, TendonPathsStartInTheirMuscleAndEndInTheirBone) {
   const msd::LegGeometry& leg = default_leg();
   ASSERT_EQ(leg.tendons.size(), 4u);
-  const std::map<std::string, const msd::TriangleMesh*> surfaces{{"upper_bone", &leg.upper_bone},
-                                                                 {"lower_bone", &leg.lower_bone},
-                                                                 {"front_muscle", &leg.front_muscle},
-                                                                 {"back_muscle", &leg.back_muscle}};
+  const std::map<int, const msd::TriangleMesh*> surfaces{{msd::kUpperBone, &leg.upper_bone},
+                                                         {msd::kLowerBone, &leg.lower_bone},
+                                                         {msd::kFrontMuscle, &leg.front_muscle},
+                                                         {msd::kBackMuscle, &leg.back_muscle}};
   int strands = 0;
-  for (const msd::LegTendon& t : leg.tendons) {
+  for (const msd::TendonPathSpec& t : leg.tendons) {
     EXPECT_TRUE(msd::InsideTest(*surfaces.at(t.muscle)).inside(t.path.front())) << t.name;
     EXPECT_TRUE(msd::InsideTest(*surfaces.at(t.bone)).inside(t.path.back())) << t.name;
     strands += t.strands;

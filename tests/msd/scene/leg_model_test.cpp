@@ -26,7 +26,7 @@ const ShippedLeg& shipped() {
     msd::LimbMeshOptions o;
     o.spacing = 0.0245;
     ShippedLeg l{msd::mesh_limb(msd::read_leg_surfaces(std::string(TISSUEBENCH_DATA_DIR) + "/leg"), o), {}};
-    for (const msd::TendonPathSpec& t : msd::tendon_path_specs(msd::make_leg(msd::LegParameters{})))
+    for (const msd::TendonPathSpec& t : msd::make_leg(msd::LegParameters{}).tendons)
       l.tendons.push_back(msd::route_tendon(l.mesh, t));
     return l;
   }();

@@ -65,8 +65,9 @@ struct SelfContactReport {
 };
 
 /// Detects and resolves the region's contacts at positions x (velocities v),
-/// moving only nodes with movable[node] != 0 (an empty `movable`: all).
+/// leaving alone nodes with held[node] != 0 (held by a bone; an empty `held`:
+/// every node may move).
 SelfContactReport resolve_self_contact(const SelfContactRegion& region, const std::vector<Tet>& tets, Points& x,
-                                       Points& v, const std::vector<char>& movable = {});
+                                       Points& v, const std::vector<char>& held = {});
 
 }  // namespace msd

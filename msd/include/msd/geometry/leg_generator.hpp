@@ -66,16 +66,11 @@ struct LegParameters {
   double skin_cell = 0.016;
 };
 
-/// A tendon's geometric path: a polyline from the muscle end to the bone.
-struct LegTendon {
-  std::string name, muscle, bone;  ///< muscle: front_muscle|back_muscle; bone: upper_bone|lower_bone
-  int strands = 6;
-  std::vector<Vec3> path;  ///< muscle end first (m)
-};
-
 struct LegGeometry {
   TriangleMesh skin, upper_bone, lower_bone, front_muscle, back_muscle;
-  std::vector<LegTendon> tendons;  ///< back-upper (8 strands), back-lower, front-upper, front-lower (6 each), thesis 4.5
+  /// Tendon paths, the limb mesher's routing input: back-upper (8 strands),
+  /// back-lower, front-upper, front-lower (6 each), thesis 4.5.
+  std::vector<TendonPathSpec> tendons;
   Vec3 knee_centre{Vec3::Zero()};
   Vec3 knee_axis{Vec3::UnitY()};
   double hip_height = 0.0, knee_height = 0.0, ankle_height = 0.0, foot_length = 0.0;
@@ -98,8 +93,5 @@ void write_leg(const LegGeometry& leg, const LegParameters& params, double spaci
 /// Reads the five surfaces write_leg writes (skin.obj, upper_bone.obj, ...)
 /// from `dir` as a limb, each region's source naming its file.
 LimbSurfaces read_leg_surfaces(const std::string& dir);
-
-/// The tendon paths as the limb mesher's routing input.
-std::vector<TendonPathSpec> tendon_path_specs(const LegGeometry& leg);
 
 }  // namespace msd

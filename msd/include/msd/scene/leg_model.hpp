@@ -79,7 +79,6 @@ struct LegModel {
   std::vector<Tet> tets;  ///< the tissue's tets (the contact test's solids)
   long joint_space_tets = 0;  ///< tets left out because they had nodes on both bones
   std::optional<SelfContactRegion> knee_contact;
-  std::vector<char> free_nodes;  ///< per node: 1 where neither bone holds it
 };
 
 struct LegState {
