@@ -8,6 +8,7 @@
 #include "bench/fem_runner.hpp"
 #include "bench/guard.hpp"
 #include "bench/leg_mesh.hpp"
+#include "bench/leg_scene.hpp"
 #include "bench/msd_runner.hpp"
 #include "bench/results_file.hpp"
 #include "bench/series_tools.hpp"
@@ -409,6 +410,29 @@ int cmd_mesh(const MeshArgs& args) {
   std::printf("%s", bench::format_leg_mesh_summary(s).c_str());
   std::printf("written: %s/mesh.vtu, bone_points.vtu, surfaces/*.vtu, summary.json\n", args.out.c_str());
   return 0;
+}
+
+int cmd_leg(const LegArgs& args) {
+  if (!root()) return 0;
+  const std::string file =
+      args.scene.empty() ? std::string(TISSUEBENCH_DATA_DIR) + "/scenes/hamstrings.yaml" : args.scene;
+  bench::LegScene scene = bench::read_leg_scene(file);
+  if (args.duration > 0.0) scene.duration = args.duration;
+  if (args.obj_every >= 0) scene.obj_every = args.obj_every;
+  ProgressLine progress(scene.name + " (leg)", !args.quiet);
+  const auto runs = bench::run_leg_scene(scene, args.out, [&](double t, double end) { progress.update(t, end); });
+  progress.done();
+  int rc = 0;
+  for (const auto& r : runs) {
+    std::printf("%s", bench::format_leg_summary(r).c_str());
+    if (r.status != "complete") {
+      std::fprintf(stderr, "error: %s%s%s: %s\n", scene.name.c_str(), r.variant.empty() ? "" : " / ",
+                   r.variant.c_str(), r.failure.c_str());
+      rc = 3;
+    }
+  }
+  std::printf("written: %s/ (leg.h5, leg.csv, leg.xdmf, skin/frame_*.obj, summary.json)\n", args.out.c_str());
+  return rc;
 }
 
 int cmd_leg_geometry(const LegGeometryArgs& args) {

@@ -80,6 +80,16 @@ struct MeshArgs {
 /// Meshes a limb scene's surfaces (tissuebench mesh SCENE.yaml --out DIR).
 int cmd_mesh(const MeshArgs& args);
 
+struct LegArgs {
+  std::string scene, out = "leg";  ///< scene "" = msd/data/scenes/hamstrings.yaml
+  double duration = 0.0;           ///< > 0: run only this long (s)
+  int obj_every = -1;              ///< >= 0: overrides the scene's outputs.obj_every
+  bool quiet = false;
+};
+/// Runs a leg scene (tissuebench leg SCENE.yaml --out DIR). Exit 3 when the
+/// simulation blew up (its files keep what was written, marked failed).
+int cmd_leg(const LegArgs& args);
+
 struct LegGeometryArgs {
   double stature = 1.756, mass = 85.5;  ///< m, kg (the ANSUR II male mean)
   double spacing = 0.0;                ///< the scene's grid spacing (m); 0: the default scaled by stature

@@ -62,6 +62,19 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   mesh_cmd->add_option("--out", mesh.out, "Output folder")->capture_default_str();
 
+  app::LegArgs leg;
+  auto* leg_cmd = cli.add_subcommand(
+      "leg", "Run a leg scene (thesis 6): knee, tendons, muscles, collisions, scripted control; writes leg.h5, "
+             "leg.xdmf (ParaView), skin OBJ frames and summary.json");
+  leg_cmd->add_option("scene", leg.scene,
+                      "Scene file (YAML; see benchmarks/include/bench/leg_scene.hpp); default: the hamstrings "
+                      "scene, msd/data/scenes/hamstrings.yaml")
+      ->check(CLI::ExistingFile);
+  leg_cmd->add_option("--out", leg.out, "Output folder")->capture_default_str();
+  leg_cmd->add_option("--duration", leg.duration, "Run only this many simulated seconds");
+  leg_cmd->add_option("--obj-every", leg.obj_every, "Write the skin as OBJ every n-th frame (0: none)");
+  leg_cmd->add_flag("--quiet", leg.quiet, "No progress line");
+
   app::LegGeometryArgs leg_geometry;
   auto* leg_geometry_cmd = cli.add_subcommand(
       "leg-geometry", "Generate the parametric leg (skin, femur, lower bone, two muscles, tendon paths) from "
@@ -191,6 +204,7 @@ int main(int argc, char** argv) {
     if (*suite_cmd) return app::cmd_suite(suite);
     if (*inspect_cmd) return app::cmd_inspect(inspect);
     if (*mesh_cmd) return app::cmd_mesh(mesh);
+    if (*leg_cmd) return app::cmd_leg(leg);
     if (*leg_geometry_cmd) return app::cmd_leg_geometry(leg_geometry);
     if (*converge_cmd) return app::cmd_converge(converge);
     if (*compare_cmd) return app::cmd_compare(compare);

@@ -40,11 +40,7 @@ msd::VtuGrid surface_grid(const msd::TriangleMesh& m, const msd::Embedding& e) {
 
 }  // namespace
 
-LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& out_dir) {
-  const auto start = std::chrono::steady_clock::now();
-  // A summary from an earlier run must not outlive a failed one.
-  std::error_code ignore;
-  fs::remove(fs::path(out_dir) / "summary.json", ignore);
+LimbInput read_limb_input(const std::string& scene_file) {
   const YAML::Node root = load_yaml_file(scene_file, "scene file");
   if (!root || !root.IsMap()) throw msd::Error(scene_file + ": the scene must be a YAML mapping");
   const Fields f(root, "", scene_file);
@@ -58,7 +54,9 @@ LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& 
     if (!fs::exists(full)) throw msd::Error(leg.where(key) + "no such file: " + full.string());
     return full.string();
   };
-  msd::LimbSurfaces surfaces;
+  LimbInput in;
+  in.name = f.text_or("name", fs::path(scene_file).stem().string());
+  msd::LimbSurfaces& surfaces = in.surfaces;
   surfaces.source[msd::kPassiveTissue] = file_of("skin");
   surfaces.skin = msd::read_surface(surfaces.source[msd::kPassiveTissue]);
   for (const auto& [key, region] : kRegions)
@@ -68,7 +66,7 @@ LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& 
     }
   const Fields mesh = f.section("mesh");
   mesh.only({"spacing", "rotation", "rule", "origin", "pull", "pull_min_quality"});
-  msd::LimbMeshOptions o;
+  msd::LimbMeshOptions& o = in.options;
   o.spacing = mesh.number("spacing");
   if (!(o.spacing > 0.0)) throw msd::Error(mesh.where("spacing") + "must be a positive length (m)");
   if (mesh.has("rotation")) {
@@ -100,7 +98,7 @@ LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& 
   }
 
   // Tendons: [{name, muscle, bone, strands, path: [[x, y, z], ...]}].
-  std::vector<msd::TendonPathSpec> tendon_specs;
+  std::vector<msd::TendonPathSpec>& tendon_specs = in.tendons;
   if (f.has("tendons")) {
     const YAML::Node list = root["tendons"];
     if (!list.IsSequence()) throw msd::Error(f.where("tendons") + "must be a list of tendons");
@@ -143,9 +141,26 @@ LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& 
       throw msd::Error(scene_file + ": tendons[" + std::to_string(i) + "]: " + e.what());
     }
   }
-  const msd::LimbMesh m = msd::mesh_limb(surfaces, o);
-  std::vector<msd::TendonStrands> tendons;
-  for (const auto& spec : tendon_specs) tendons.push_back(msd::route_tendon(m, spec));
+  return in;
+}
+
+MeshedLimb mesh_limb_input(const LimbInput& in) {
+  MeshedLimb out{msd::mesh_limb(in.surfaces, in.options), {}};
+  for (const auto& spec : in.tendons) out.tendons.push_back(msd::route_tendon(out.mesh, spec));
+  return out;
+}
+
+LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& out_dir) {
+  const auto start = std::chrono::steady_clock::now();
+  // A summary from an earlier run must not outlive a failed one.
+  std::error_code ignore;
+  fs::remove(fs::path(out_dir) / "summary.json", ignore);
+  const LimbInput in = read_limb_input(scene_file);
+  const msd::LimbSurfaces& surfaces = in.surfaces;
+  const msd::LimbMeshOptions& o = in.options;
+  const MeshedLimb limb = mesh_limb_input(in);
+  const msd::LimbMesh& m = limb.mesh;
+  const std::vector<msd::TendonStrands>& tendons = limb.tendons;
 
   // Outputs: everything else first, summary.json last.
   fs::create_directories(fs::path(out_dir) / "surfaces");

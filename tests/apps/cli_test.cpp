@@ -482,3 +482,30 @@ TEST(Cli, LegGeometryWritesALegThatMeshesAndTheShippedLegIsTheDefault) {
   EXPECT_NE(r.output.find("stature (m) = 2.9 is outside 1.2 ... 2.3"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir.file("bad")));
 }
+
+TEST(Cli, LegRunsASceneSaysWhatItWroteAndRefusesBadOnesOrBlowUpsWithTheirExitCodes) {
+  testing_support::TempDir dir("cli_leg_scene");
+  const std::string scenes = std::string(TISSUEBENCH_DATA_DIR) + "/scenes/";
+  // The first 0.12 s of the pre-tension scene.
+  Result r = sh("leg " + scenes + "pretension.yaml --out " + dir.file("pre") + " --duration 0.12 --obj-every 1 --quiet");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("pretension: complete, 0.12 s simulated"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("knee_angle_max_deg"), std::string::npos) << r.output;
+  for (const char* f : {"leg.h5", "leg.csv", "leg.xdmf", "summary.json", "skin/frame_0003.obj"})
+    EXPECT_TRUE(std::filesystem::exists(dir.file("pre/" + std::string(f)))) << f;
+  // A scene with a wrong field: exit 2, the file and field named, no summary.
+  std::string bad = replaced(slurp(scenes + "pretension.yaml"), "dt: 2.0e-4", "dt: -1");
+  std::ofstream(dir.file("bad.yaml")) << bad;
+  r = sh("leg " + dir.file("bad.yaml") + " --out " + dir.file("bad"));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("bad.yaml:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("dt"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("bad/summary.json")));
+  // A step far past stability: exit 3, when and where it failed, the frames kept.
+  std::string unstable = replaced(slurp(scenes + "drop.yaml"), "dt: 2.0e-4", "dt: 8.0e-3");
+  std::ofstream(dir.file("unstable.yaml")) << unstable;
+  r = sh("leg " + dir.file("unstable.yaml") + " --out " + dir.file("unstable") + " --obj-every 0 --quiet");
+  EXPECT_EQ(r.code, 3) << r.output;
+  EXPECT_NE(r.output.find("non-finite"), std::string::npos) << r.output;
+  EXPECT_NE(slurp(dir.file("unstable/summary.json")).find("\"status\": \"failed\""), std::string::npos);
+}

@@ -26,10 +26,32 @@
 // rest with its embedding: tet and distance per vertex), summary.json.
 #pragma once
 
+#include "msd/mesh/limb_mesher.hpp"
+#include "msd/mesh/tendon_paths.hpp"
+
 #include <map>
 #include <string>
+#include <vector>
 
 namespace bench {
+
+/// A mesh scene read and checked, not yet meshed: the surfaces, the mesher's
+/// options and the tendons' routing input (ends validated against their regions).
+struct LimbInput {
+  std::string name;
+  msd::LimbSurfaces surfaces;
+  msd::LimbMeshOptions options;
+  std::vector<msd::TendonPathSpec> tendons;
+};
+/// Reads a mesh scene (the format above). Throws msd::Error naming the file and field.
+LimbInput read_limb_input(const std::string& scene_file);
+
+/// The limb meshed and its tendons routed.
+struct MeshedLimb {
+  msd::LimbMesh mesh;
+  std::vector<msd::TendonStrands> tendons;
+};
+MeshedLimb mesh_limb_input(const LimbInput& input);
 
 struct LegMeshSummary {
   long cubes = 0, tets = 0, nodes = 0, bone_points = 0, tendon_strands = 0;

@@ -77,4 +77,20 @@ void check_cylinder(const RigidCylinder& c, const std::string& where) {
     throw Error(where + ": the cylinder's radius must be positive (got " + std::to_string(c.radius) + ")");
 }
 
+ContactGap obstacle_gap(const RigidObstacle& ob, const Vec3& offset, const Vec3& x) {
+  return ob.shape == ObstacleShape::Plane ? plane_gap(ob.plane, offset, x) : cylinder_gap(ob.cylinder, offset, x);
+}
+
+bool resolve_obstacle_contact(const RigidObstacle& ob, const Vec3& offset, const Vec3& velocity, Vec3& x, Vec3& v) {
+  return ob.shape == ObstacleShape::Plane ? resolve_plane_contact(ob.plane, ob.response, offset, velocity, x, v)
+                                          : resolve_cylinder_contact(ob.cylinder, ob.response, offset, velocity, x, v);
+}
+
+void check_obstacle(const RigidObstacle& ob, const std::string& where) {
+  if (ob.shape == ObstacleShape::Plane)
+    check_plane(ob.plane, where);
+  else
+    check_cylinder(ob.cylinder, where);
+}
+
 }  // namespace msd

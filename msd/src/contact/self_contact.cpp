@@ -69,12 +69,13 @@ void AabbTree::query(const Vec3& p, std::vector<int>& out) const {
 }
 
 SelfContactRegion make_self_contact_region(const TetMesh& mesh, const std::string& name, const Vec3& lo,
-                                           const Vec3& hi, const Vec3& split_point, const Vec3& split_normal) {
+                                           const Vec3& hi, const Vec3& split_point, const Vec3& split_normal,
+                                           const std::vector<Tri>& surface) {
   SelfContactRegion r;
   r.name = name;
   auto in_box = [&](const Vec3& c) { return (c.array() >= lo.array()).all() && (c.array() <= hi.array()).all(); };
   auto side = [&](const Vec3& c) { return (c - split_point).dot(split_normal) >= 0.0 ? 0 : 1; };
-  for (const Tri& f : boundary_faces(mesh.tets)) {
+  for (const Tri& f : surface.empty() ? boundary_faces(mesh.tets) : surface) {
     const Vec3 c = (mesh.nodes.col(f[0]) + mesh.nodes.col(f[1]) + mesh.nodes.col(f[2])) / 3.0;
     if (in_box(c)) r.faces[side(c)].push_back(f);
   }
@@ -90,6 +91,18 @@ SelfContactRegion make_self_contact_region(const TetMesh& mesh, const std::strin
     std::sort(r.nodes[s].begin(), r.nodes[s].end());
     r.nodes[s].erase(std::unique(r.nodes[s].begin(), r.nodes[s].end()), r.nodes[s].end());
   }
+  std::vector<std::vector<int>> neighbours(static_cast<size_t>(mesh.num_nodes()));
+  for (const Tet& t : mesh.tets)
+    for (int a : t)
+      for (int b : t)
+        if (a != b) neighbours[static_cast<size_t>(a)].push_back(b);
+  for (int s = 0; s < 2; ++s)
+    for (int node : r.nodes[s]) {
+      std::vector<int> n = neighbours[static_cast<size_t>(node)];
+      std::sort(n.begin(), n.end());
+      n.erase(std::unique(n.begin(), n.end()), n.end());
+      r.ring[s].push_back(std::move(n));
+    }
   return r;
 }
 
@@ -127,14 +140,23 @@ SelfContactReport resolve_self_contact(const SelfContactRegion& r, const std::ve
       hi.col(static_cast<Eigen::Index>(k)) = h;
     }
     const AabbTree tree(lo, hi);
-    for (int node : r.nodes[s]) {
+    for (size_t ni = 0; ni < r.nodes[s].size(); ++ni) {
+      const int node = r.nodes[s][ni];
       if (!held.empty() && held[static_cast<size_t>(node)]) continue;
       const Vec3 p = x.col(node);
       tree.query(p, candidates);
+      const std::vector<int>* ring = r.ring[s].empty() ? nullptr : &r.ring[s][ni];
+      auto near = [&](const Tet& t) {  // its own tet, or one touching its neighbours
+        for (int w : t) {
+          if (w == node) return true;
+          if (ring && std::binary_search(ring->begin(), ring->end(), w)) return true;
+        }
+        return false;
+      };
       bool inside = false;
       for (int k : candidates) {
         const Tet& t = tets[static_cast<size_t>(other_tets[static_cast<size_t>(k)])];
-        if (std::find(t.begin(), t.end(), node) != t.end()) continue;  // its own tet
+        if (near(t)) continue;
         if (inside_tet(x, t, p)) {
           inside = true;
           break;
@@ -153,10 +175,16 @@ SelfContactReport resolve_self_contact(const SelfContactRegion& r, const std::ve
         }
       }
       const Vec3 a = x.col((*face)[0]), b = x.col((*face)[1]), c = x.col((*face)[2]);
-      const Vec3 n = (b - a).cross(c - a).normalized();
+      const Vec3 area = (b - a).cross(c - a);
+      if (!(area.norm() > 0.0)) continue;  // a collapsed face has no normal
+      const Vec3 n = area.normalized();
       const double depth = (a - p).dot(n);
       // A node resting on the other side's surface is touching, not penetrating.
       if (!(depth > 1e-12 * std::sqrt((b - a).cross(c - a).norm()))) continue;
+      if (depth > r.max_correction) {
+        ++report.too_deep;
+        continue;
+      }
       x.col(node) = p + depth * n;
       v.col(node).setZero();
       ++report.contacts;

@@ -22,7 +22,7 @@ std::vector<ContractileUnit> contractile_units(const TetMesh& mesh, int region, 
       if (a > b) std::swap(a, b);
       if (!seen.insert({a, b}).second) continue;
       const Vec3 l = mesh.nodes.col(b) - mesh.nodes.col(a);
-      if (std::abs(l.dot(d)) >= cos_min * l.norm()) units.push_back({a, b});
+      if (std::abs(l.dot(d)) >= cos_min * l.norm()) units.push_back({a, b, l.norm()});
     }
   }
   return units;
@@ -39,13 +39,25 @@ double unit_force(const TetMesh& mesh, int region, const std::vector<Contractile
   return activation * max_stress * volume / lambda;
 }
 
-void add_muscle_forces(const Points& x, const std::vector<ContractileUnit>& units, double force, Points& f) {
+double force_length_factor(double stretch, double zero_at) {
+  if (zero_at < 0.0 || stretch >= 1.0) return 1.0;
+  if (stretch <= zero_at) return 0.0;
+  const double s = (1.0 - stretch) / (1.0 - zero_at);
+  return 1.0 - s * s;
+}
+
+void add_muscle_forces(const Points& x, const std::vector<ContractileUnit>& units, double force, Points& f,
+                       const ForceLength& fl) {
   if (force == 0.0) return;
+  if (fl.enabled && !(fl.zero_at >= 0.0 && fl.zero_at < 1.0))
+    throw Error("muscle: the force-length relation's zero stretch must lie in [0, 1), got " + std::to_string(fl.zero_at));
   for (const auto& u : units) {
     const Vec3 l = x.col(u.b) - x.col(u.a);
     const double len = l.norm();
     if (len <= 0.0) continue;
-    const Vec3 pull = (force / len) * l;  // a pulled towards b, b towards a
+    const double scale = fl.enabled ? force_length_factor(len / u.rest_length, fl.zero_at) : 1.0;
+    if (scale == 0.0) continue;
+    const Vec3 pull = (scale * force / len) * l;  // a pulled towards b, b towards a
     f.col(u.a) += pull;
     f.col(u.b) -= pull;
   }

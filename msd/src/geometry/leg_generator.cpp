@@ -236,6 +236,16 @@ LegGeometry make_leg(const LegParameters& p) {
   leg.back_muscle = mesh_implicit_surface(back_field, o);
 
   // ---- Tendon paths (muscle end first), strands as in thesis 4.5. --------
+  // The hamstrings' lower tendon passes 3.3 cm (scaled by girth) behind the
+  // knee's centre, near the straight line from muscle to insertion: with a
+  // deeper bow (4.5 cm) the taut tendon cut through the soft flesh behind the
+  // knee instead of turning the lower bone, and the activated back muscle
+  // flexed the knee no further than about 40 degrees (issue 6, measured).
+  // The quadriceps' tendon ends on the knee cap, which is part of the lower
+  // bone here: the patellar tendon is rigid. Routed on past the knee cap to
+  // the tibia, the tendon wrapped over the front of the knee through the
+  // flesh, and in a flexed knee its pull dragged that flesh through the
+  // femur's condyles (the leg blew up at 70-90 degrees, issue 6, measured).
   auto tendon = [](const char* name, int muscle, int bone, int strands, std::vector<Vec3> path) {
     TendonPathSpec t;
     t.name = name;
@@ -249,13 +259,12 @@ LegGeometry make_leg(const LegParameters& p) {
       tendon("back_upper", kBackMuscle, kUpperBone, 8,
              {Vec3(muscle_x(back, z_knee + 0.84 * T), 0, z_knee + 0.84 * T), Vec3(-0.012 * ls, 0, z_top - 0.06 * ls)}),
       tendon("back_lower", kBackMuscle, kLowerBone, 6,
-             {Vec3(muscle_x(back, z_knee + 0.16 * T), 0, z_knee + 0.16 * T), Vec3(-0.045 * gs, 0, z_knee),
+             {Vec3(muscle_x(back, z_knee + 0.16 * T), 0, z_knee + 0.16 * T), Vec3(-0.033 * gs, 0, z_knee),
               Vec3(-0.008 * ls, 0, z_knee - 0.05 * ls)}),
       tendon("front_upper", kFrontMuscle, kUpperBone, 6,
              {Vec3(muscle_x(front, z_knee + 0.88 * T), 0, z_knee + 0.88 * T), Vec3(0.012 * ls, 0, z_top - 0.07 * ls)}),
       tendon("front_lower", kFrontMuscle, kLowerBone, 6,
-             {Vec3(muscle_x(front, z_knee + 0.18 * T), 0, z_knee + 0.18 * T),
-              Vec3(patella_centre.x(), 0, z_knee + 0.03 * ls), Vec3(0.010 * ls, 0, z_knee - 0.06 * ls)}),
+             {Vec3(muscle_x(front, z_knee + 0.18 * T), 0, z_knee + 0.18 * T), patella_centre}),
   };
 
 

@@ -80,7 +80,7 @@ void apply_constraints(const Model& model, const Controls& controls, State& stat
     const Vec3 vel = k < controls.obstacle_velocity.size() ? controls.obstacle_velocity[k] : Vec3::Zero();
     for (int n : ob.nodes) {
       Vec3 x = state.x.col(n), v = state.v.col(n);
-      if (resolve_cylinder_contact(ob.cylinder, ob.response, off, vel, x, v)) {
+      if (resolve_obstacle_contact(ob, off, vel, x, v)) {
         state.x.col(n) = x;
         state.v.col(n) = v;
       }

@@ -100,7 +100,7 @@ Model build_model(const TetMesh& mesh, const ModelOptions& options) {
   for (size_t k = 0; k < options.obstacles.size(); ++k) {
     RigidObstacle ob = options.obstacles[k];
     const std::string where = "obstacle '" + ob.name + "'";
-    check_cylinder(ob.cylinder, where);
+    check_obstacle(ob, where);
     if (ob.nodes.empty())
       for (const Tri& f : boundary_faces(mesh.tets))
         for (int v : f) ob.nodes.push_back(v);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 namespace msd {
 
@@ -32,15 +33,52 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
   TetMesh tissue_mesh = m.mesh;
   tissue_mesh.tets.clear();
   tissue_mesh.region.clear();
+  std::vector<unsigned> near_bone(static_cast<size_t>(n), 0);  // bones a node shares a tet with
+  for (const Tet& t : m.mesh.tets) {
+    unsigned b = 0;
+    for (int v : t) b |= leg.attached[static_cast<size_t>(v)];
+    for (int v : t) near_bone[static_cast<size_t>(v)] |= b;
+  }
+  const Vec3 axis = o.knee_axis.normalized();
+  std::vector<size_t> squeezed_tets;
   for (size_t e = 0; e < m.mesh.tets.size(); ++e) {
-    unsigned bones = 0;
-    for (int v : m.mesh.tets[e]) bones |= leg.attached[static_cast<size_t>(v)];
+    unsigned bones = 0, near = 0;
+    Vec3 c = Vec3::Zero();
+    for (int v : m.mesh.tets[e]) {
+      bones |= leg.attached[static_cast<size_t>(v)];
+      near |= near_bone[static_cast<size_t>(v)];
+      c += 0.25 * m.mesh.nodes.col(v);
+    }
+    const Vec3 r = c - o.knee_centre;
+    const bool bone_tet = m.mesh.region[e] == kUpperBone || m.mesh.region[e] == kLowerBone;
+    const bool squeezed = o.joint_space_radius > 0.0 && !bone_tet && bones != 0u && near == 3u &&
+                          (r - r.dot(axis) * axis).norm() < o.joint_space_radius;
     if (bones == 3u) {
       ++leg.joint_space_tets;
       continue;
     }
+    if (squeezed) {
+      squeezed_tets.push_back(e);
+      continue;
+    }
     tissue_mesh.tets.push_back(m.mesh.tets[e]);
     tissue_mesh.region.push_back(m.mesh.region[e]);
+  }
+  // A squeezed tet stays if leaving it out would leave a node in no tet.
+  {
+    std::vector<int> uses(static_cast<size_t>(n), 0);
+    for (const Tet& t : tissue_mesh.tets)
+      for (int v : t) ++uses[static_cast<size_t>(v)];
+    for (size_t e : squeezed_tets) {
+      const Tet& t = m.mesh.tets[e];
+      if (std::any_of(t.begin(), t.end(), [&](int v) { return uses[static_cast<size_t>(v)] == 0; })) {
+        tissue_mesh.tets.push_back(t);
+        tissue_mesh.region.push_back(m.mesh.region[e]);
+        for (int v : t) ++uses[static_cast<size_t>(v)];
+      } else {
+        ++leg.joint_space_tets;
+      }
+    }
   }
   ModelOptions mo;
   mo.terms = o.terms;
@@ -71,33 +109,123 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
   leg.knee.inertia = inertia;
   check_hinge(leg.knee);
 
+  if (!o.tendon_insertions.empty() && o.tendon_insertions.size() != tendons.size())
+    throw Error("leg: " + std::to_string(o.tendon_insertions.size()) + " tendon insertions for " +
+                std::to_string(tendons.size()) + " tendons");
+  for (const auto& [name, e] : o.tendon_moduli)
+    if (std::none_of(tendons.begin(), tendons.end(), [&](const TendonStrands& t) { return t.name == name; }))
+      throw Error("leg: a modulus is given for tendon '" + name + "', which the leg does not have");
   for (const TendonStrands& t : tendons) {
     leg.tendon_names.push_back(t.name);
+    const size_t ti = leg.tendon_names.size() - 1;
     for (const auto& s : t.strands) {
       LegStrand ls;
       ls.nodes = s;
-      ls.tendon = static_cast<int>(leg.tendon_names.size()) - 1;
-      ls.natural_length = strand_length(leg.tissue.rest_positions, s);
+      ls.tendon = static_cast<int>(ti);
+      if (ti < o.tendon_insertions.size() && o.tendon_insertions[ti]) {
+        const int bone = leg.attached[static_cast<size_t>(s.back())];
+        if (!bone) throw Error("leg: tendon '" + t.name + "' does not end on a bone node, so it cannot take an insertion");
+        if (s.size() < 2) throw Error("leg: tendon '" + t.name + "' has a strand of one node");
+        ls.nodes.pop_back();
+        ls.anchored = true;
+        ls.anchor_bone = bone;
+        ls.anchor_rest = *o.tendon_insertions[ti];
+      }
+      ls.natural_length = strand_length(leg_strand_points(leg, ls, leg.tissue.rest_positions, 0.0), [&] {
+        std::vector<int> idx(ls.nodes.size() + (ls.anchored ? 1 : 0));
+        for (size_t k = 0; k < idx.size(); ++k) idx[k] = static_cast<int>(k);
+        return idx;
+      }());
       if (!(ls.natural_length > 0.0)) throw Error("leg: tendon '" + t.name + "' has a strand of zero length");
-      ls.k_t = tendon_stiffness(o.tendon_modulus, o.strand_area, ls.natural_length);
+      const auto mod = o.tendon_moduli.find(t.name);
+      ls.k_t = tendon_stiffness(mod != o.tendon_moduli.end() ? mod->second : o.tendon_modulus, o.strand_area,
+                                ls.natural_length);
       leg.strands.push_back(ls);
     }
   }
   leg.tets = tissue_mesh.tets;
+  // The skin: the limb's outer boundary faces (the joint space's hole has
+  // boundary faces too, inside the knee, that no skin touches).
+  std::vector<Tri> skin_faces;
+  if (o.knee_contact_box || !o.obstacles.empty()) {
+    auto key = [](Tri f) {
+      std::sort(f.begin(), f.end());
+      return f;
+    };
+    std::set<Tri> outer;
+    for (const Tri& f : boundary_faces(m.mesh.tets)) outer.insert(key(f));
+    for (const Tri& f : boundary_faces(tissue_mesh.tets))
+      if (outer.count(key(f))) skin_faces.push_back(f);
+  }
   if (o.knee_contact_box)
     leg.knee_contact = make_self_contact_region(tissue_mesh, "behind the knee", o.knee_contact_box->first,
-                                                o.knee_contact_box->second, o.knee_centre, o.leg_axis);
+                                                o.knee_contact_box->second, o.knee_centre, o.leg_axis, skin_faces);
+  if (leg.knee_contact) {
+    // Half the mean edge of the region's tets: skin passes skin by less than
+    // that in one step; anything deeper is a node caught across the split.
+    double sum = 0.0;
+    long count = 0;
+    for (int side = 0; side < 2; ++side)
+      for (int e : leg.knee_contact->tets[side])
+        for (const auto& edge : kTetEdges) {
+          const Tet& t = tissue_mesh.tets[static_cast<size_t>(e)];
+          sum += (m.mesh.nodes.col(t[static_cast<size_t>(edge[0])]) - m.mesh.nodes.col(t[static_cast<size_t>(edge[1])])).norm();
+          ++count;
+        }
+    if (count) leg.knee_contact->max_correction = 0.5 * sum / static_cast<double>(count);
+  }
+  if (!o.obstacles.empty()) {
+    std::vector<char> on_surface(static_cast<size_t>(n), 0);
+    for (const Tri& t : skin_faces)
+      for (int v : t) on_surface[static_cast<size_t>(v)] = 1;
+    for (size_t k = 0; k < o.obstacles.size(); ++k) {
+      RigidObstacle ob = o.obstacles[k].object;
+      const std::string where = "leg: obstacle '" + ob.name + "'";
+      check_obstacle(ob, where);
+      ob.nodes.clear();
+      for (int i = 0; i < n; ++i) {
+        if (!on_surface[static_cast<size_t>(i)] || leg.attached[static_cast<size_t>(i)]) continue;
+        const Vec3 x = m.mesh.nodes.col(i);
+        if (o.obstacles[k].box) {
+          const auto& [lo, hi] = *o.obstacles[k].box;
+          if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any()) continue;
+        }
+        ob.nodes.push_back(i);
+      }
+      if (ob.nodes.empty()) throw Error(where + ": no free surface node of the leg lies in its box");
+      leg.obstacles.push_back(ob);
+    }
+  }
   leg.front_units = contractile_units(m.mesh, kFrontMuscle, o.front_line, o.unit_angle_deg);
   leg.back_units = contractile_units(m.mesh, kBackMuscle, o.back_line, o.unit_angle_deg);
   leg.front_unit_force = unit_force(m.mesh, kFrontMuscle, leg.front_units, o.front_line, 1.0, o.max_muscle_stress);
   leg.back_unit_force = unit_force(m.mesh, kBackMuscle, leg.back_units, o.back_line, 1.0, o.max_muscle_stress);
+  leg.force_length = o.force_length;
+  leg.leg_axis = o.leg_axis.normalized();
+  if (!(o.joint_damping >= 0.0) || !(o.limit_stiffness >= 0.0))
+    throw Error("leg: the knee's joint damping and limit stiffness must be >= 0");
+  if (!(o.passive_lo <= o.passive_hi)) throw Error("leg: the knee's passive range must have passive_lo <= passive_hi");
+  leg.joint_damping = o.joint_damping;
+  leg.limit_stiffness = o.limit_stiffness;
+  leg.passive_lo = o.passive_lo;
+  leg.passive_hi = o.passive_hi;
   return leg;
 }
 
-LegState leg_rest_state(const LegModel& model, double angle) {
+LegState leg_rest_state(const LegModel& model, double angle, double blend) {
   LegState s;
   s.tissue = rest_state(model.tissue);
   s.knee.angle = angle;
+  if (angle != 0.0) {
+    const Hinge& k = model.knee;
+    for (int i = 0; i < model.tissue.num_nodes(); ++i) {
+      if (model.attached[static_cast<size_t>(i)]) continue;
+      const Vec3 r = model.tissue.rest_positions.col(i) - k.centre;
+      const double h = r.dot(model.leg_axis);
+      const double w = blend > 0.0 ? std::clamp((blend - h) / (2.0 * blend), 0.0, 1.0) : (h < 0.0 ? 1.0 : 0.0);
+      if (w > 0.0) s.tissue.x.col(i) = k.centre + hinge_rotation(k, w * angle) * r;
+    }
+  }
   place_attached(model.knee, s.knee, model.tissue.rest_positions, model.lower_nodes, s.tissue.x, s.tissue.v);
   return s;
 }
@@ -110,28 +238,57 @@ void step_leg(const LegModel& model, LegState& state, const LegControls& c, doub
 
   // Tendons (tension only) and muscles add to the one force buffer.
   scratch.tendon_tension.assign(model.tendon_names.size(), 0.0);
-  for (const LegStrand& s : model.strands) {
-    const double scale = static_cast<size_t>(s.tendon) < c.tendon_length_scale.size()
-                             ? c.tendon_length_scale[static_cast<size_t>(s.tendon)]
-                             : 1.0;
-    scratch.tendon_tension[static_cast<size_t>(s.tendon)] +=
-        add_tendon_forces(ts.x, s.nodes, scale * s.natural_length, s.k_t, f);
+  Vec3 anchor_torque = Vec3::Zero(), anchor_force = Vec3::Zero();  // on the lower bone through anchors
+  for (size_t si = 0; si < model.strands.size(); ++si) {
+    const LegStrand& s = model.strands[si];
+    const double scale = (static_cast<size_t>(s.tendon) < c.tendon_length_scale.size()
+                              ? c.tendon_length_scale[static_cast<size_t>(s.tendon)]
+                              : 1.0) *
+                         (si < c.strand_natural_length.size() ? c.strand_natural_length[si] / s.natural_length : 1.0);
+    if (!s.anchored) {
+      scratch.tendon_tension[static_cast<size_t>(s.tendon)] +=
+          add_tendon_forces(ts.x, s.nodes, scale * s.natural_length, s.k_t, f);
+      continue;
+    }
+    const Points p = leg_strand_points(model, s, ts.x, state.knee.angle);
+    std::vector<int> idx(static_cast<size_t>(p.cols()));
+    for (size_t k = 0; k < idx.size(); ++k) idx[k] = static_cast<int>(k);
+    Points fl = Points::Zero(3, p.cols());
+    scratch.tendon_tension[static_cast<size_t>(s.tendon)] += add_tendon_forces(p, idx, scale * s.natural_length, s.k_t, fl);
+    for (size_t k = 0; k < s.nodes.size(); ++k) f.col(s.nodes[k]) += fl.col(static_cast<Eigen::Index>(k));
+    if (s.anchor_bone == 2) {
+      const Vec3 fa = fl.col(p.cols() - 1);
+      anchor_torque += (Vec3(p.col(p.cols() - 1)) - model.knee.centre).cross(fa);
+      anchor_force += fa;
+    }
   }
-  if (c.front_activation > 0.0) add_muscle_forces(ts.x, model.front_units, c.front_activation * model.front_unit_force, f);
-  if (c.back_activation > 0.0) add_muscle_forces(ts.x, model.back_units, c.back_activation * model.back_unit_force, f);
+  if (c.front_activation > 0.0)
+    add_muscle_forces(ts.x, model.front_units, c.front_activation * model.front_unit_force, f, model.force_length);
+  if (c.back_activation > 0.0)
+    add_muscle_forces(ts.x, model.back_units, c.back_activation * model.back_unit_force, f, model.force_length);
 
   // The torque on the lower leg about the hinge.
   const bool gravity = tm.terms & kGravity;
   const Vec3 g = gravity ? tm.gravity : Vec3::Zero();
-  Vec3 torque = Vec3::Zero();
-  for (int i : model.lower_nodes)
-    torque += (Vec3(ts.x.col(i)) - model.knee.centre).cross(Vec3(f.col(i)) + tm.mass[i] * g);
+  // (And, for the joint reaction, the lower leg's mass, first moment and the
+  // resultant of the forces on it.)
+  Vec3 torque = anchor_torque, applied = anchor_force, moment = Vec3::Zero();
+  for (int i : model.lower_nodes) {
+    const Vec3 r = Vec3(ts.x.col(i)) - model.knee.centre;
+    torque += r.cross(Vec3(f.col(i)) + tm.mass[i] * g);
+    applied += Vec3(f.col(i)) + tm.mass[i] * g;
+    moment += tm.mass[i] * r;
+  }
   if (model.lower_bone.mass > 0.0) {
     const Vec3 centre = model.knee.centre + hinge_rotation(model.knee, state.knee.angle) *
                                                 (model.lower_bone.centre - model.knee.centre);
     torque += (centre - model.knee.centre).cross(model.lower_bone.mass * g);
+    applied += model.lower_bone.mass * g;
+    moment += model.lower_bone.mass * (centre - model.knee.centre);
   }
-  scratch.knee_torque = axial_torque(model.knee, torque) + c.joint_torque;
+  const double omega_before = state.knee.velocity;
+  scratch.passive_joint_torque = passive_joint_torque(model, state.knee);
+  scratch.knee_torque = axial_torque(model.knee, torque) + c.joint_torque + scratch.passive_joint_torque;
 
   // Free nodes: semi-implicit Euler.
   for (int i = 0; i < tm.num_nodes(); ++i) {
@@ -145,6 +302,16 @@ void step_leg(const LegModel& model, LegState& state, const LegControls& c, doub
   else
     step_hinge(model.knee, scratch.knee_torque, dt, state.knee);
   place_attached(model.knee, state.knee, tm.rest_positions, model.lower_nodes, ts.x, ts.v);
+  // Joint reaction: the lower leg's momentum changes by M a_c = R + applied,
+  // a_c = alpha n x r_c - omega^2 r_c,perp (r_c its centre of mass from the
+  // knee's centre, first moment / M).
+  {
+    const Vec3 n = model.knee.axis;
+    const Vec3 rc = moment;  // M r_c
+    const Vec3 rc_perp = rc - rc.dot(n) * n;
+    const double alpha = dt > 0.0 ? (state.knee.velocity - omega_before) / dt : 0.0, w = state.knee.velocity;
+    scratch.joint_reaction = alpha * n.cross(rc) - w * w * rc_perp - applied;
+  }
   for (int i : model.femur_nodes) {
     ts.x.col(i) = tm.rest_positions.col(i);
     ts.v.col(i).setZero();
@@ -152,6 +319,24 @@ void step_leg(const LegModel& model, LegState& state, const LegControls& c, doub
   scratch.knee_contact = model.knee_contact
                              ? resolve_self_contact(*model.knee_contact, model.tets, ts.x, ts.v, model.attached)
                              : SelfContactReport{};
+  scratch.obstacles.assign(model.obstacles.size(), ObstacleContact{});
+  for (size_t k = 0; k < model.obstacles.size(); ++k) {
+    const RigidObstacle& ob = model.obstacles[k];
+    const Vec3 off = k < c.obstacle_offset.size() ? c.obstacle_offset[k] : Vec3::Zero();
+    const Vec3 vel = k < c.obstacle_velocity.size() ? c.obstacle_velocity[k] : Vec3::Zero();
+    ObstacleContact& report = scratch.obstacles[k];
+    for (int i : ob.nodes) {
+      Vec3 x = ts.x.col(i), v = ts.v.col(i);
+      const ContactGap gap = obstacle_gap(ob, off, x);
+      if (!resolve_obstacle_contact(ob, off, vel, x, v)) continue;
+      ts.x.col(i) = x;
+      ts.v.col(i) = v;
+      ++report.contacts;
+      report.max_depth = std::max(report.max_depth, gap.depth);
+      const double lambda = std::max(0.0, -(Vec3(f.col(i)) + tm.mass[i] * g).dot(gap.normal));
+      report.force += lambda * gap.normal;  // the object pushes the node out along its normal
+    }
+  }
   ts.t += dt;
   ++ts.step;
   if (!ts.x.allFinite() || !ts.v.allFinite() || !std::isfinite(state.knee.angle)) {
@@ -160,6 +345,23 @@ void step_leg(const LegModel& model, LegState& state, const LegControls& c, doub
         throw SimulationFailure("leg: non-finite position or velocity", ts.t, ts.step, -1, i);
     throw SimulationFailure("leg: non-finite knee angle", ts.t, ts.step, -1, -1);
   }
+}
+
+Points leg_strand_points(const LegModel& model, const LegStrand& s, const Points& x, double angle) {
+  Points p(3, static_cast<Eigen::Index>(s.nodes.size() + (s.anchored ? 1 : 0)));
+  for (size_t k = 0; k < s.nodes.size(); ++k) p.col(static_cast<Eigen::Index>(k)) = x.col(s.nodes[k]);
+  if (s.anchored)
+    p.col(p.cols() - 1) = s.anchor_bone == 2 ? Vec3(model.knee.centre + hinge_rotation(model.knee, angle) *
+                                                                            (s.anchor_rest - model.knee.centre))
+                                             : s.anchor_rest;
+  return p;
+}
+
+double passive_joint_torque(const LegModel& model, const HingeState& knee) {
+  double tau = -model.joint_damping * knee.velocity;
+  if (knee.angle > model.passive_hi) tau -= model.limit_stiffness * (knee.angle - model.passive_hi);
+  if (knee.angle < model.passive_lo) tau -= model.limit_stiffness * (knee.angle - model.passive_lo);
+  return tau;
 }
 
 double leg_kinetic_energy(const LegModel& model, const LegState& state) {

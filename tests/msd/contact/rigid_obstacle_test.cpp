@@ -157,3 +157,37 @@ TEST(RigidPlane, NodesBelowATableAreLiftedOntoItWithTheResponsesVelocity) {
   EXPECT_NO_THROW(msd::check_plane(table, "table"));
   EXPECT_THROW(msd::check_plane({msd::Vec3::Zero(), msd::Vec3(0, 0, 2)}, "table"), msd::Error);
 }
+
+TEST(RigidPlane, AModelsPlaneObstacleKeepsItsNodesAboveAndIsCheckedByShape) {
+  // The same tet as the rod test, its base held; a ceiling (solid above its
+  // plane, normal -z) comes down on the apex.
+  const msd::TetMesh mesh = testing_support::corner_tet_mesh(0.1);
+  msd::TissueMaterial mat;
+  mat.density = 1000.0;
+  mat.k_s = 50.0;
+  msd::ModelOptions opt;
+  opt.region_materials = {mat};
+  opt.groups = {msd::KinematicGroup{"base", {0, 1, 2}, {true, true, true}}};
+  msd::RigidObstacle ceiling;
+  ceiling.name = "ceiling";
+  ceiling.shape = msd::ObstacleShape::Plane;
+  ceiling.plane = {Vec3(0, 0, 0.1), -Vec3::UnitZ()};  // solid above z = 0.1
+  opt.obstacles = {ceiling};
+  const msd::Model model = msd::build_model(mesh, opt);
+  ASSERT_EQ(model.obstacles[0].nodes, std::vector<int>{3});
+  msd::State s = msd::rest_state(model);
+  msd::Scratch scratch;
+  msd::Controls c;
+  c.group_offset = {Vec3::Zero()};
+  c.group_velocity = {Vec3::Zero()};
+  for (int k = 1; k <= 100; ++k) {
+    c.obstacle_offset = {Vec3(0, 0, -0.03 * k / 100.0)};
+    c.obstacle_velocity = {Vec3(0, 0, -0.03)};
+    msd::step(model, s, c, 1e-3, msd::Integrator::SymplecticEuler, scratch);
+    EXPECT_LE(msd::obstacle_gap(model.obstacles[0], c.obstacle_offset[0], s.x.col(3)).depth, 1e-15);
+  }
+  EXPECT_NEAR(s.x(2, 3), 0.07, 1e-12);  // pressed down 3 cm with the plane (stick: no sliding)
+  // The plane's own check runs for a plane obstacle: a non-unit normal is refused.
+  opt.obstacles[0].plane.normal = Vec3(0, 0, -2);
+  EXPECT_THROW(msd::build_model(mesh, opt), msd::Error);
+}

@@ -128,3 +128,43 @@ TEST(SelfContact, OnlyTheRegionIsTestedAndEmptySidesAreNamed) {
     EXPECT_NE(std::string(e.what()).find("self contact 'behind_knee': side 0"), std::string::npos) << e.what();
   }
 }
+
+TEST(SelfContact, ADeeperThanAllowedContactIsCountedAndLeftAlone) {
+  const msd::TetMesh m = two_blocks();
+  msd::SelfContactRegion r = msd::make_self_contact_region(m, "behind_knee", msd::Vec3(-1, -1, -1),
+                                                           msd::Vec3(1, 1, 1), msd::Vec3(0, 0, 0.025),
+                                                           msd::Vec3::UnitZ());
+  r.max_correction = 0.003;
+  msd::Points x = m.nodes, v = msd::Points::Zero(3, m.num_nodes());
+  const int node = node_at(m, {0.02, 0.02, 0.03});
+  ASSERT_GE(node, 0);
+  x(2, node) = 0.016;  // 4 mm in: deeper than 3 mm
+  const msd::SelfContactReport rep = msd::resolve_self_contact(r, m.tets, x, v);
+  EXPECT_EQ(rep.too_deep, 1);
+  EXPECT_EQ(x(2, node), 0.016);  // left where it is
+  // (The lower block's node now inside the upper block's stretched tets is
+  // shallow, and is put back as before.)
+  EXPECT_LE(rep.contacts, 1);
+  EXPECT_LE(rep.max_depth, 0.003);
+}
+
+TEST(SelfContact, ANodeInsideItsNeighboursTetsAtAFoldIsNotAContact) {
+  // One 4 cm block split in two at z = 2 cm: a node of the upper side's
+  // surface pushed 1.1 cm down lies inside a lower-side tet that touches its
+  // own neighbours - a fold, not skin through skin.
+  msd::SampleMeshOptions o;
+  o.spacing = 0.01;
+  const msd::TetMesh m = msd::mesh_closed_surface(msd::make_box({0, 0, 0}, {0.04, 0.04, 0.04}), o, "block").mesh;
+  msd::SelfContactRegion r = msd::make_self_contact_region(m, "fold", msd::Vec3(-1, -1, -1), msd::Vec3(1, 1, 1),
+                                                           msd::Vec3(0, 0, 0.02), msd::Vec3::UnitZ());
+  const int node = node_at(m, {0.0, 0.02, 0.03});
+  ASSERT_GE(node, 0);
+  msd::Points x = m.nodes, v = msd::Points::Zero(3, m.num_nodes());
+  x(0, node) = 0.001;
+  x(2, node) = 0.019;
+  EXPECT_EQ(msd::resolve_self_contact(r, m.tets, x, v).contacts, 0);
+  EXPECT_EQ(x(2, node), 0.019);
+  // The same fold without the neighbourhood rule counts as contact.
+  for (auto& ring : r.ring) ring.clear();
+  EXPECT_GE(msd::resolve_self_contact(r, m.tets, x, v).contacts, 1);
+}

@@ -73,3 +73,46 @@ TEST(MuscleUnits, ForcesAreEqualAndOppositeWithNoNetForceOrTorque) {
   EXPECT_LT(top, 0.0);
   EXPECT_GT(bottom, 0.0);
 }
+
+TEST(MuscleUnits, ForceLengthFactorIsTheAscendingLimb) {
+  // f_L = 1 at and above the rest (optimal) length, 1 - ((1 - l) / (1 - l0))^2
+  // between, 0 at and below l0; l0 < 0 is the thesis' constant force.
+  EXPECT_EQ(msd::force_length_factor(1.0, 0.5), 1.0);
+  EXPECT_EQ(msd::force_length_factor(1.3, 0.5), 1.0);
+  EXPECT_DOUBLE_EQ(msd::force_length_factor(0.75, 0.5), 0.75);  // 1 - (0.25 / 0.5)^2
+  EXPECT_DOUBLE_EQ(msd::force_length_factor(0.9, 0.6), 1.0 - 0.25 * 0.25);
+  EXPECT_EQ(msd::force_length_factor(0.5, 0.5), 0.0);
+  EXPECT_EQ(msd::force_length_factor(0.2, 0.5), 0.0);
+  EXPECT_EQ(msd::force_length_factor(0.2, -1.0), 1.0);
+  // Continuous at both ends of the limb.
+  EXPECT_NEAR(msd::force_length_factor(1.0 - 1e-9, 0.5), 1.0, 1e-8);
+  EXPECT_NEAR(msd::force_length_factor(0.5 + 1e-9, 0.5), 0.0, 1e-8);
+}
+
+TEST(MuscleUnits, WithForceLengthAShortenedUnitPullsLessAndAHalfLengthOneNotAtAll) {
+  // One unit along z of rest length 1 cm; pulled with 2 N at full length.
+  const std::vector<msd::ContractileUnit> units{{0, 1, 0.01}};
+  const msd::ForceLength fl{true, 0.5};
+  auto pull = [&](double length) {
+    msd::Points x(3, 2);
+    x.col(0) = msd::Vec3::Zero();
+    x.col(1) = msd::Vec3(0, 0, length);
+    msd::Points f = msd::Points::Zero(3, 2);
+    msd::add_muscle_forces(x, units, 2.0, f, fl);
+    EXPECT_NEAR((f.col(0) + f.col(1)).norm(), 0.0, 1e-15);  // still equal and opposite
+    return f(2, 0);  // node 0 pulled towards node 1 (+z)
+  };
+  EXPECT_DOUBLE_EQ(pull(0.012), 2.0);
+  EXPECT_DOUBLE_EQ(pull(0.01), 2.0);
+  EXPECT_DOUBLE_EQ(pull(0.0075), 2.0 * 0.75);
+  EXPECT_EQ(pull(0.004), 0.0);
+  // Without it (the thesis) the pull does not depend on length.
+  msd::Points x(3, 2);
+  x.col(0) = msd::Vec3::Zero();
+  x.col(1) = msd::Vec3(0, 0, 0.004);
+  msd::Points f = msd::Points::Zero(3, 2);
+  msd::add_muscle_forces(x, units, 2.0, f);
+  EXPECT_DOUBLE_EQ(f(2, 0), 2.0);
+  // A zero stretch outside [0, 1) is refused.
+  EXPECT_THROW(msd::add_muscle_forces(x, units, 2.0, f, msd::ForceLength{true, 1.0}), msd::Error);
+}

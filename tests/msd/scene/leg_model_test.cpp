@@ -185,3 +185,152 @@ TEST(LegModel, ShortenedTendonsPullWithTheirStrandsStiffnessAndMusclesAddNoNetFo
   EXPECT_LT((f - rest.f).rowwise().sum().norm(), 1e-9 * leg.back_unit_force);
   EXPECT_GT((f - rest.f).cwiseAbs().maxCoeff(), 0.1 * leg.back_unit_force);
 }
+
+TEST(LegModel, PassiveJointTorqueDampsAndStiffensOnlyBeyondItsRange) {
+  msd::LegModelOptions o = options();
+  o.joint_damping = 0.25;
+  o.limit_stiffness = 100.0;
+  o.passive_lo = 0.0;
+  o.passive_hi = 130.0 * kDeg;
+  const msd::LegModel leg = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  EXPECT_DOUBLE_EQ(msd::passive_joint_torque(leg, {60.0 * kDeg, 2.0}), -0.5);          // -b omega
+  EXPECT_NEAR(msd::passive_joint_torque(leg, {140.0 * kDeg, 0.0}), -100.0 * 10.0 * kDeg, 1e-12);  // past 130
+  EXPECT_NEAR(msd::passive_joint_torque(leg, {-5.0 * kDeg, 0.0}), 100.0 * 5.0 * kDeg, 1e-12);  // hyperextended
+  o.passive_lo = 1.0;
+  o.passive_hi = 0.5;
+  EXPECT_THROW(msd::build_leg_model(shipped().mesh, shipped().tendons, o), msd::Error);
+}
+
+TEST(LegModel, AtRestTheFemurCarriesTheLowerLegsWeight) {
+  // The knee held straight and still; no tissue force at rest: the joint
+  // reaction is minus the lower leg's weight (bone + the nodes on it).
+  msd::LegModelOptions o = options();
+  const msd::LegModel leg = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  msd::LegState s = msd::leg_rest_state(leg, 0.0);
+  msd::LegScratch scratch;
+  msd::LegControls c;
+  c.scripted_knee = msd::HingeState{0.0, 0.0};
+  msd::step_leg(leg, s, c, 1e-4, scratch);
+  double mass = leg.lower_bone.mass;
+  for (int i : leg.lower_nodes) mass += leg.tissue.mass[i];
+  EXPECT_LT((scratch.joint_reaction + mass * o.gravity).norm(), 1e-9 * mass * 9.81);
+}
+
+TEST(LegModel, AnchoredTendonsEndAtTheirInsertionAndTurnTheKneeThroughIt) {
+  // The knee cap's tendon (front_lower) inserted at a point on the lower bone
+  // instead of its last node: the strand runs to the point, its natural length
+  // includes it, and a shortened strand pulls the point - a torque about the knee.
+  msd::LegModelOptions o = options();
+  o.terms &= ~static_cast<unsigned>(msd::kGravity);
+  const msd::Vec3 insertion(0.0412, 0.0, 0.53046);
+  o.tendon_insertions = {std::nullopt, std::nullopt, std::nullopt, insertion};
+  const msd::LegModel leg = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  int anchored = 0;
+  for (const msd::LegStrand& s : leg.strands) {
+    if (s.tendon != 3) {
+      EXPECT_FALSE(s.anchored);
+      continue;
+    }
+    ++anchored;
+    EXPECT_TRUE(s.anchored);
+    EXPECT_EQ(s.anchor_bone, 2);
+    const msd::Points p = msd::leg_strand_points(leg, s, leg.tissue.rest_positions, 0.0);
+    EXPECT_EQ(p.col(p.cols() - 1), insertion);
+    double length = 0.0;
+    for (Eigen::Index k = 1; k < p.cols(); ++k) length += (p.col(k) - p.col(k - 1)).norm();
+    EXPECT_NEAR(s.natural_length, length, 1e-15);
+    // With the knee at 90 degrees the point has turned with the bone.
+    const msd::Points q = msd::leg_strand_points(leg, s, leg.tissue.rest_positions, 90.0 * kDeg);
+    const msd::Vec3 expected =
+        leg.knee.centre + msd::hinge_rotation(leg.knee, 90.0 * kDeg) * (insertion - leg.knee.centre);
+    EXPECT_LT((q.col(q.cols() - 1) - expected).norm(), 1e-15);
+  }
+  EXPECT_EQ(anchored, 6);
+  // Shortened by 10 %: 6 strands pull E A 0.1 each; the point lies in front
+  // of the knee's centre and the pull runs up the thigh, so it extends the knee.
+  msd::LegState s = msd::leg_rest_state(leg, 0.0);
+  msd::LegScratch scratch;
+  msd::LegControls c;
+  c.tendon_length_scale = {1.0, 1.0, 1.0, 0.9};
+  c.scripted_knee = msd::HingeState{0.0, 0.0};
+  msd::step_leg(leg, s, c, 1e-4, scratch);
+  EXPECT_NEAR(scratch.tendon_tension[3], 6 * o.tendon_modulus * o.strand_area * 0.1, 1e-9);
+  EXPECT_LT(scratch.knee_torque, 0.0);
+  // An insertion list of the wrong length is refused.
+  o.tendon_insertions = {insertion};
+  EXPECT_THROW(msd::build_leg_model(shipped().mesh, shipped().tendons, o), msd::Error);
+}
+
+TEST(LegModel, ObstaclesTestOnlyTheFreeSkinNodesInTheirBox) {
+  msd::LegModelOptions o = options();
+  msd::LegModelOptions::Obstacle rod;
+  rod.object.name = "rod";
+  rod.object.cylinder.point = msd::Vec3(0.12, 0, 0.17);
+  rod.object.cylinder.axis = msd::Vec3::UnitY();
+  rod.object.cylinder.radius = 0.04;
+  rod.box = std::make_pair(msd::Vec3(0.0, -0.08, 0.08), msd::Vec3(0.12, 0.08, 0.3));
+  o.obstacles = {rod};
+  const msd::LegModel leg = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  ASSERT_EQ(leg.obstacles.size(), 1u);
+  ASSERT_FALSE(leg.obstacles[0].nodes.empty());
+  for (int i : leg.obstacles[0].nodes) {
+    EXPECT_EQ(leg.attached[static_cast<size_t>(i)], 0);
+    const msd::Vec3 x = leg.tissue.rest_positions.col(i);
+    EXPECT_TRUE((x.array() >= rod.box->first.array()).all() && (x.array() <= rod.box->second.array()).all());
+  }
+  // Moved 5 cm back into the shin, the rod pushes the skin it meets out of
+  // itself and reports the contacts and a force on the leg.
+  msd::LegState s = msd::leg_rest_state(leg, 0.0);
+  msd::LegScratch scratch;
+  msd::LegControls c;
+  c.scripted_knee = msd::HingeState{0.0, 0.0};
+  c.obstacle_offset = {msd::Vec3(-0.05, 0, 0)};
+  c.obstacle_velocity = {msd::Vec3::Zero()};
+  msd::step_leg(leg, s, c, 1e-4, scratch);
+  ASSERT_EQ(scratch.obstacles.size(), 1u);
+  EXPECT_GT(scratch.obstacles[0].contacts, 0);
+  for (int i : leg.obstacles[0].nodes)
+    EXPECT_LE(msd::obstacle_gap(leg.obstacles[0], c.obstacle_offset[0], s.tissue.x.col(i)).depth, 1e-12);
+  // A box holding no skin is refused by name.
+  o.obstacles[0].box = std::make_pair(msd::Vec3(5, 5, 5), msd::Vec3(6, 6, 6));
+  try {
+    msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+    FAIL() << "no error";
+  } catch (const msd::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("obstacle 'rod'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(LegModel, ARestStateAtAnAngleTurnsTheLowerLegsFleshWithItsBone) {
+  const msd::LegModel leg = msd::build_leg_model(shipped().mesh, shipped().tendons, options());
+  const double angle = 30.0 * kDeg, h = 0.0245;
+  const msd::LegState s = msd::leg_rest_state(leg, angle, h);
+  const msd::Mat3 r = msd::hinge_rotation(leg.knee, angle);
+  for (int i = 0; i < leg.tissue.num_nodes(); ++i) {
+    const msd::Vec3 X = leg.tissue.rest_positions.col(i);
+    const double height = (X - leg.knee.centre).dot(leg.leg_axis);
+    if (leg.attached[static_cast<size_t>(i)] == 1 || (height > h && !leg.attached[static_cast<size_t>(i)])) {
+      EXPECT_EQ(s.tissue.x.col(i), X);  // the thigh stays
+    }
+    if (leg.attached[static_cast<size_t>(i)] == 2 || (height < -h && !leg.attached[static_cast<size_t>(i)])) {
+      EXPECT_LT((s.tissue.x.col(i) - (leg.knee.centre + r * (X - leg.knee.centre))).norm(), 1e-12);
+    }
+  }
+}
+
+TEST(LegModel, AWiderJointSpaceLeavesOutTheTissueBetweenTheBonesButNoNode) {
+  msd::LegModelOptions o = options();
+  o.joint_space_radius = 0.09;
+  const msd::LegModel wide = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  EXPECT_GT(wide.joint_space_tets, 45);
+  EXPECT_EQ(static_cast<long>(wide.tets.size()) + wide.joint_space_tets, shipped().mesh.mesh.num_tets());
+  std::vector<int> uses(static_cast<size_t>(wide.tissue.num_nodes()), 0);
+  for (const msd::Tet& t : wide.tets)
+    for (int v : t) ++uses[static_cast<size_t>(v)];
+  EXPECT_EQ(std::count(uses.begin(), uses.end(), 0), 0);  // every node keeps a tet (and its mass)
+  for (size_t e = 0; e < wide.tets.size(); ++e) {
+    unsigned bones = 0;
+    for (int v : wide.tets[e]) bones |= wide.attached[static_cast<size_t>(v)];
+    EXPECT_NE(bones, 3u);
+  }
+}

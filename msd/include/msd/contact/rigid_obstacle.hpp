@@ -38,15 +38,6 @@ enum class ContactResponse { Stick, Frictionless };
 ContactResponse parse_contact_response(const std::string& name);
 std::string to_string(ContactResponse response);
 
-/// A rigid object and the nodes tested against it (surface nodes only: the
-/// model tests only what a scene can bring into contact).
-struct RigidObstacle {
-  std::string name;
-  RigidCylinder cylinder;
-  ContactResponse response = ContactResponse::Stick;
-  std::vector<int> nodes;
-};
-
 /// Where a point lies relative to an object's surface.
 struct ContactGap {
   double depth = 0.0;          ///< > 0 inside (cylinder: R - r), m
@@ -85,5 +76,26 @@ bool resolve_plane_contact(const RigidPlane& p, ContactResponse response, const 
 /// Throws msd::Error naming `where` unless the plane is usable (finite point,
 /// unit normal).
 void check_plane(const RigidPlane& p, const std::string& where);
+
+enum class ObstacleShape { Cylinder, Plane };
+
+/// A rigid object and the nodes tested against it (surface nodes only: the
+/// model tests only what a scene can bring into contact).
+struct RigidObstacle {
+  std::string name;
+  ObstacleShape shape = ObstacleShape::Cylinder;
+  RigidCylinder cylinder;  ///< when shape is Cylinder
+  RigidPlane plane;        ///< when shape is Plane
+  ContactResponse response = ContactResponse::Stick;
+  std::vector<int> nodes;
+};
+
+/// Where x lies relative to the obstacle moved by `offset`.
+ContactGap obstacle_gap(const RigidObstacle& ob, const Vec3& offset, const Vec3& x);
+/// The thesis' response against the obstacle's shape (resolve_cylinder_contact
+/// or resolve_plane_contact).
+bool resolve_obstacle_contact(const RigidObstacle& ob, const Vec3& offset, const Vec3& velocity, Vec3& x, Vec3& v);
+/// check_cylinder or check_plane, by shape.
+void check_obstacle(const RigidObstacle& ob, const std::string& where);
 
 }  // namespace msd

@@ -17,6 +17,7 @@
 
 #include "msd/mesh/tet_mesh.hpp"
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -49,17 +50,31 @@ struct SelfContactRegion {
   std::vector<int> nodes[2];  ///< surface nodes of each side
   std::vector<int> tets[2];   ///< tets of each side (mesh indices)
   std::vector<Tri> faces[2];  ///< boundary faces of each side, outward
+  /// A node found deeper than this (m) is not moved: so deep a "contact" is a
+  /// node caught inside a neighbouring tet across the split, not skin that
+  /// came through skin in one step (infinity: every contact is resolved).
+  double max_correction = std::numeric_limits<double>::infinity();
+  /// Per side, per surface node: the nodes sharing a tet with it. A node is
+  /// not tested against tets touching these (at a fold - the crease's apex -
+  /// a node lies "inside" its neighbours' tets without any skin having
+  /// passed through skin, and putting it on a face next to it flattens them).
+  std::vector<std::vector<int>> ring[2];
 };
 
 /// The region: boundary faces of the mesh (at rest) whose centroid lies in
 /// the box [lo, hi], and tets whose centroid does, each given to side 0 where
-/// (centroid - split_point) . split_normal >= 0, else side 1. Throws
-/// msd::Error naming the region if either side has no face.
+/// (centroid - split_point) . split_normal >= 0, else side 1. `surface`, when
+/// given, replaces the mesh's boundary faces: the faces that count as skin
+/// (a mesh with holes - the leg's joint space - has boundary faces inside it
+/// that no skin can touch). Throws msd::Error naming the region if either
+/// side has no face.
 SelfContactRegion make_self_contact_region(const TetMesh& mesh, const std::string& name, const Vec3& lo,
-                                           const Vec3& hi, const Vec3& split_point, const Vec3& split_normal);
+                                           const Vec3& hi, const Vec3& split_point, const Vec3& split_normal,
+                                           const std::vector<Tri>& surface = {});
 
 struct SelfContactReport {
   int contacts = 0;
+  int too_deep = 0;        ///< found inside but deeper than max_correction: left alone
   double max_depth = 0.0;  ///< m
   double area = 0.0;       ///< m^2
 };

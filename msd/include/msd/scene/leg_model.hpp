@@ -31,6 +31,7 @@
 #include "msd/skeleton/hinge.hpp"
 #include "msd/skeleton/rigid_body.hpp"
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -46,24 +47,63 @@ struct LegModelOptions {
   Vec3 knee_axis{Vec3::UnitY()};     ///< positive rotation = flexion
   double min_flexion = 0.0, max_flexion = 2.4;  ///< rad
   double bone_density = kBoneDensity;
+  /// The joint space, widened: besides the tets with nodes on both bones,
+  /// leave out those with a node on one bone and a node sharing a tet with
+  /// the other whose centroid lies within this distance of the knee's axis
+  /// (m; 0: only the first kind). Flexed past about 90 degrees, such a tet is
+  /// squeezed between the femur's condyles and the tibia's plateau.
+  double joint_space_radius = 0.0;
   /// Tendons (thesis 5.3): modulus (the thesis' softened 0.8 MPa by default)
   /// and the cross-section of one strand.
   double tendon_modulus = 0.8e6, strand_area = 2.0e-5;
+  /// Per-tendon moduli overriding tendon_modulus, by tendon name (a relaxed
+  /// muscle in series makes its tendon's line compliant; an active one stiff).
+  std::map<std::string, double> tendon_moduli;
+  /// Per tendon (in order): when set, each strand's bone end is this point,
+  /// fixed on the bone its last node belongs to, in place of that node - the
+  /// anatomical insertion (a tendon path's last point), not the nearest mesh
+  /// node (at 24.5 mm the knee cap has no node of its own).
+  std::vector<std::optional<Vec3>> tendon_insertions;
   /// Muscles (5.2.7): maximum isometric stress, line of action (unit vectors,
   /// front and back muscle) and the units' angle tolerance.
   double max_muscle_stress = 3.0e5;
   Vec3 front_line{Vec3::UnitZ()}, back_line{Vec3::UnitZ()};
   double unit_angle_deg = 30.0;
+  /// The units' force-length relation (msd/forces/muscle_units.hpp); the
+  /// thesis' constant force is {false}.
+  ForceLength force_length{true, 0.5};
+  /// The knee's passive structures (ligaments, capsule, the muscles' passive
+  /// resistance, lumped; none in the thesis): a viscous torque -b omega, and
+  /// an elastic end-range torque -k (theta - theta_hi) beyond `passive_hi`
+  /// (and -k (theta - theta_lo) below `passive_lo`) before the hard stops of
+  /// the flexion range. 0: none.
+  double joint_damping = 0.0;          ///< b, N m s / rad
+  double limit_stiffness = 0.0;        ///< k, N m / rad
+  double passive_lo = 0.0, passive_hi = 2.0;  ///< rad
   /// Skin against skin behind the knee (thesis 5.6): the box tested, split at
   /// the knee's centre across the leg's axis. None: no collision work.
   std::optional<std::pair<Vec3, Vec3>> knee_contact_box;
   Vec3 leg_axis{Vec3::UnitZ()};  ///< thigh side = (x - knee centre) . axis >= 0
+  /// Rigid external objects (thesis 5.6, 6.3, 6.7): each is tested against the
+  /// free surface nodes whose rest position lies in its box (a scene names
+  /// where contact can happen), or against every free surface node when the
+  /// box is absent.
+  struct Obstacle {
+    RigidObstacle object;  ///< its nodes are ignored (chosen from the box)
+    std::optional<std::pair<Vec3, Vec3>> box;
+  };
+  std::vector<Obstacle> obstacles;
 };
 
 struct LegStrand {
-  std::vector<int> nodes;    ///< muscle node first, bone node last
+  std::vector<int> nodes;    ///< muscle node first, bone node last (unless anchored)
   int tendon = 0;            ///< index into LegModel::tendon_names
   double natural_length = 0.0, k_t = 0.0;
+  /// The bone end as a point fixed on a bone (1 femur, 2 lower bone) after
+  /// the last node, instead of a bone node.
+  bool anchored = false;
+  int anchor_bone = 0;
+  Vec3 anchor_rest{Vec3::Zero()};
 };
 
 struct LegModel {
@@ -76,9 +116,13 @@ struct LegModel {
   std::vector<LegStrand> strands;
   std::vector<ContractileUnit> front_units, back_units;
   double front_unit_force = 0.0, back_unit_force = 0.0;  ///< N per unit at activation 1
+  ForceLength force_length;
+  Vec3 leg_axis{Vec3::UnitZ()};  ///< up the thigh
+  double joint_damping = 0.0, limit_stiffness = 0.0, passive_lo = 0.0, passive_hi = 0.0;
   std::vector<Tet> tets;  ///< the tissue's tets (the contact test's solids)
   long joint_space_tets = 0;  ///< tets left out because they had nodes on both bones
   std::optional<SelfContactRegion> knee_contact;
+  std::vector<RigidObstacle> obstacles;  ///< with the nodes each is tested against
 };
 
 struct LegState {
@@ -89,16 +133,33 @@ struct LegState {
 struct LegControls {
   double front_activation = 0.0, back_activation = 0.0;  ///< 0 ... 1
   std::vector<double> tendon_length_scale;  ///< per tendon (pre-tension: < 1); empty: 1
+  /// Per strand (LegModel::strands order): natural lengths replacing the
+  /// model's (e.g. measured in a starting posture; infinity: slack); empty:
+  /// the model's. The length scale applies on top.
+  std::vector<double> strand_natural_length;
   double joint_torque = 0.0;                ///< added about the hinge axis, N m
   std::optional<HingeState> scripted_knee;  ///< kinematic override of the angle
+  /// Each obstacle's translation from its rest placement and its velocity
+  /// (scripted motion); empty: at rest.
+  std::vector<Vec3> obstacle_offset, obstacle_velocity;
+};
+
+/// What an obstacle did in the last step.
+struct ObstacleContact {
+  int contacts = 0;           ///< nodes found inside and put back on its surface
+  double max_depth = 0.0;     ///< deepest of them, m
+  Vec3 force{Vec3::Zero()};   ///< on the leg: sum of lambda n, lambda = max(0, -f . n) (rigid_obstacle.hpp)
 };
 
 /// Diagnostics of the last step.
 struct LegScratch {
   Scratch tissue;
   std::vector<double> tendon_tension;  ///< per tendon: the sum over its strands (N)
-  double knee_torque = 0.0;            ///< about the axis, N m
+  double knee_torque = 0.0;            ///< about the axis, N m (all of it: tissue, tendons, gravity, passive joint, added)
+  double passive_joint_torque = 0.0;   ///< of it, the knee's passive structures
+  Vec3 joint_reaction{Vec3::Zero()};   ///< force the femur exerts on the lower leg at the hinge, N
   SelfContactReport knee_contact;      ///< skin against skin behind the knee
+  std::vector<ObstacleContact> obstacles;
 };
 
 /// Compiles the leg. Throws msd::Error if a bone has no tets or bone points,
@@ -106,11 +167,21 @@ struct LegScratch {
 LegModel build_leg_model(const LimbMesh& mesh, const std::vector<TendonStrands>& tendons,
                          const LegModelOptions& options);
 
-/// The rest state with the knee at `angle` (rad), lower-leg nodes placed rigidly.
-LegState leg_rest_state(const LegModel& model, double angle);
+/// The rest state with the knee at `angle` (rad): lower-bone nodes placed
+/// rigidly, free tissue turned with them by w(s) angle, s = (X - c) . leg axis
+/// its height over the knee's centre, w = 1 below -h, 0 above +h, linear
+/// between (h = `blend`, m) - the flesh around the knee shares the bend.
+LegState leg_rest_state(const LegModel& model, double angle, double blend = 0.0245);
 
 /// One step of dt. Throws SimulationFailure (when, where) on a non-finite value.
 void step_leg(const LegModel& model, LegState& state, const LegControls& controls, double dt, LegScratch& scratch);
+
+/// The strand's points (3 x m) at positions x with the knee at `angle`: its
+/// nodes, then its anchor where it has one.
+Points leg_strand_points(const LegModel& model, const LegStrand& strand, const Points& x, double angle);
+
+/// The passive joint torque at a hinge state (N m).
+double passive_joint_torque(const LegModel& model, const HingeState& knee);
 
 /// Kinetic energy of the free tissue nodes and of the lower leg (J).
 double leg_kinetic_energy(const LegModel& model, const LegState& state);

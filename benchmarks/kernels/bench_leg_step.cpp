@@ -1,0 +1,97 @@
+// One step of the leg in motion (msd/scene/leg_model.hpp) at the thesis'
+// resolution, with the work a scene can ask for switched on one at a time:
+// nothing but tissue, tendons and muscles; skin-against-skin contact in the
+// box behind the knee (the scenes' region) or over the whole leg; a rigid
+// cylinder tested against the skin nodes in its box or against every skin
+// node. The knee is held bent at 95 degrees (scripted), where the crease
+// touches, so the contact tests do their real work. The ratios in
+// benchmarks/README.md ("collisions only where a scene says") are of these
+// figures, measured in one run.
+#include "msd/geometry/leg_generator.hpp"
+#include "msd/mesh/limb_mesher.hpp"
+#include "msd/scene/leg_model.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <string>
+
+namespace {
+
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+
+struct Leg {
+  msd::LimbMesh mesh;
+  std::vector<msd::TendonStrands> tendons;
+};
+
+const Leg& leg() {
+  static const Leg l = [] {
+    msd::LimbMeshOptions o;
+    o.spacing = 0.0245;
+    Leg r{msd::mesh_limb(msd::read_leg_surfaces(std::string(TISSUEBENCH_DATA_DIR) + "/leg"), o), {}};
+    for (const msd::TendonPathSpec& t : msd::make_leg(msd::LegParameters{}).tendons)
+      r.tendons.push_back(msd::route_tendon(r.mesh, t));
+    return r;
+  }();
+  return l;
+}
+
+msd::LegModelOptions options(double tendon_modulus) {
+  msd::LegModelOptions o;  // the scenes' materials (msd/data/scenes/*.yaml)
+  o.passive.density = 920;
+  o.passive.mode = msd::ConstantsMode::Physical;
+  o.passive.youngs_modulus = 15000;
+  o.passive.damping_time = 4.2e-3;
+  o.passive.repulsion_factor = 0.5;
+  o.passive.volume_factor = 1.6;
+  o.muscle = o.passive;
+  o.muscle.density = 1040;
+  o.muscle.youngs_modulus = 75000;
+  o.knee_centre = msd::Vec3(0, 0, 0.50046);
+  o.joint_space_radius = 0.09;
+  o.max_muscle_stress = 1e6;
+  o.tendon_modulus = tendon_modulus;
+  return o;
+}
+
+enum Contact { kNone, kKneeBox, kKneeWholeLeg, kRodBox, kRodAllSkin };
+
+void BM_LegStep(benchmark::State& state) {
+  msd::LegModelOptions o = options(36.4e6);
+  const auto contact = static_cast<Contact>(state.range(0));
+  if (contact == kKneeBox) o.knee_contact_box = std::make_pair(msd::Vec3(-0.15, -0.12, 0.38), msd::Vec3(0.0, 0.12, 0.62));
+  if (contact == kKneeWholeLeg) o.knee_contact_box = std::make_pair(msd::Vec3(-1, -1, -1), msd::Vec3(1, 1, 2));
+  if (contact == kRodBox || contact == kRodAllSkin) {
+    msd::LegModelOptions::Obstacle rod;
+    rod.object.name = "rod";
+    rod.object.cylinder.point = msd::Vec3(-0.0951, 0, 0.1738);
+    rod.object.cylinder.axis = msd::Vec3::UnitY();
+    rod.object.cylinder.radius = 0.04;
+    if (contact == kRodBox) rod.box = std::make_pair(msd::Vec3(0.0, -0.08, 0.08), msd::Vec3(0.12, 0.08, 0.3));
+    o.obstacles = {rod};
+  }
+  const msd::LegModel model = msd::build_leg_model(leg().mesh, leg().tendons, o);
+  msd::LegState s = msd::leg_rest_state(model, 95.0 * kDeg);
+  msd::LegScratch scratch;
+  msd::LegControls c;
+  c.scripted_knee = msd::HingeState{95.0 * kDeg, 0.0};
+  c.back_activation = 0.3;
+  for (auto _ : state) msd::step_leg(model, s, c, 2e-4, scratch);
+  state.counters["tested_nodes"] =
+      static_cast<double>(model.knee_contact ? model.knee_contact->nodes[0].size() + model.knee_contact->nodes[1].size()
+                                             : (model.obstacles.empty() ? 0 : model.obstacles[0].nodes.size()));
+  state.counters["contacts"] = static_cast<double>(scratch.knee_contact.contacts);
+}
+BENCHMARK(BM_LegStep)
+    ->ArgName("contact")
+    ->Arg(kNone)
+    ->Arg(kKneeBox)
+    ->Arg(kKneeWholeLeg)
+    ->Arg(kRodBox)
+    ->Arg(kRodAllSkin)
+    ->Unit(benchmark::kMicrosecond)
+    ->MeasureProcessCPUTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();
