@@ -334,3 +334,27 @@ TEST(LegModel, AWiderJointSpaceLeavesOutTheTissueBetweenTheBonesButNoNode) {
     EXPECT_NE(bones, 3u);
   }
 }
+
+TEST(LegModel, AnAddedJointTorqueTurnsTheKneeAtTorqueOverInertia) {
+  // Third control mode (thesis 3.7.2): no gravity, the leg at rest (no tissue
+  // force), 2 N m added about the axis: after n steps of dt the angle is
+  // alpha t^2 (1 + 1/n) / 2 with alpha = tau / I (semi-implicit Euler), before
+  // the flesh has moved enough to push back.
+  msd::LegModelOptions o = options();
+  o.terms &= ~static_cast<unsigned>(msd::kGravity);
+  const msd::LegModel leg = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  msd::LegState s = msd::leg_rest_state(leg, 0.0);
+  msd::LegScratch scratch;
+  msd::LegControls c;
+  c.joint_torque = 2.0;
+  const int n = 10;
+  const double dt = 1e-4, alpha = 2.0 / leg.knee.inertia, t = n * dt;
+  for (int k = 0; k < n; ++k) msd::step_leg(leg, s, c, dt, scratch);
+  EXPECT_NEAR(s.knee.angle, 0.5 * alpha * t * t * (1.0 + 1.0 / n), 0.02 * 0.5 * alpha * t * t);
+  // The opposite torque pushes a straight knee into its stop at 0: it holds.
+  msd::LegState back = msd::leg_rest_state(leg, 0.0);
+  c.joint_torque = -2.0;
+  for (int k = 0; k < n; ++k) msd::step_leg(leg, back, c, dt, scratch);
+  EXPECT_EQ(back.knee.angle, 0.0);
+  EXPECT_EQ(back.knee.velocity, 0.0);
+}
