@@ -746,10 +746,7 @@ std::vector<LegRunSummary> run_leg_scene(const LegScene& scene, const std::strin
       controls.strand_natural_length.assign(leg.strands.size(), std::numeric_limits<double>::infinity());
     auto engage = [&]() {
       for (size_t k = 0; k < leg.strands.size(); ++k) {
-        const msd::Points p = msd::leg_strand_points(leg, leg.strands[k], state.tissue.x, state.knee.angle);
-        double length = 0.0;
-        for (Eigen::Index q = 1; q < p.cols(); ++q) length += (p.col(q) - p.col(q - 1)).norm();
-        controls.strand_natural_length[k] = length;
+        controls.strand_natural_length[k] = msd::leg_strand_length(leg, leg.strands[k], state.tissue.x, state.knee.angle);
       }
       engaged = true;
     };
@@ -763,9 +760,7 @@ std::vector<LegRunSummary> run_leg_scene(const LegScene& scene, const std::strin
     msd::Points skin_x(3, skin.num_vertices());
     std::vector<double> frame_times;
     std::map<std::string, std::vector<double>> recorded;
-    double max_contact_area = 0.0, first_contact = -1.0;
-    std::vector<double> max_force(leg.obstacles.size(), 0.0), max_bulge(scene.bulge_areas.size(), -1e300);
-    std::vector<double> straight_rest(leg.tendon_names.size(), 0.0), straight_max(leg.tendon_names.size(), 0.0);
+    msd::Points strand_points;  // reused by record()
     auto record = [&]() {
       const msd::Points& x = state.tissue.x;
       const double t = state.tissue.t;
@@ -784,18 +779,14 @@ std::vector<LegRunSummary> run_leg_scene(const LegScene& scene, const std::strin
       std::vector<double> straight(leg.tendon_names.size(), 0.0);
       std::vector<int> count(leg.tendon_names.size(), 0);
       for (const msd::LegStrand& s : leg.strands) {
-        const msd::Points p = msd::leg_strand_points(leg, s, x, state.knee.angle);
-        const double chord = (p.col(p.cols() - 1) - p.col(0)).norm();
-        double length = 0.0;
-        for (Eigen::Index k = 1; k < p.cols(); ++k) length += (p.col(k) - p.col(k - 1)).norm();
-        straight[static_cast<size_t>(s.tendon)] += chord / length;
+        msd::leg_strand_points(leg, s, x, state.knee.angle, strand_points);
+        const double chord = (strand_points.col(strand_points.cols() - 1) - strand_points.col(0)).norm();
+        straight[static_cast<size_t>(s.tendon)] += chord / msd::leg_strand_length(leg, s, x, state.knee.angle);
         ++count[static_cast<size_t>(s.tendon)];
       }
       for (size_t k = 0; k < straight.size(); ++k) {
         straight[k] /= std::max(1, count[k]);
         row.push_back(straight[k]);
-        if (frame_times.empty()) straight_rest[k] = straight[k];
-        straight_max[k] = std::max(straight_max[k], straight[k]);
       }
       for (int r = 0; r < 3; ++r)
         row.push_back(rest_volume[r] > 0.0 ? region_volume(x, leg.tets, tet_region, regions[r]) / rest_volume[r] : 1.0);
@@ -808,13 +799,10 @@ std::vector<LegRunSummary> run_leg_scene(const LegScene& scene, const std::strin
         }
       row.insert(row.end(), {len[0], len[1], rad[0], rad[1], scratch.knee_contact.area,
                              static_cast<double>(scratch.knee_contact.contacts)});
-      max_contact_area = std::max(max_contact_area, scratch.knee_contact.area);
-      if (first_contact < 0.0 && scratch.knee_contact.contacts > 0) first_contact = t;
       for (size_t k = 0; k < leg.obstacles.size(); ++k) {
         const double fk = k < scratch.obstacles.size() ? scratch.obstacles[k].force.norm() : 0.0;
         row.push_back(fk);
         row.push_back(k < scratch.obstacles.size() ? scratch.obstacles[k].contacts : 0.0);
-        max_force[k] = std::max(max_force[k], fk);
       }
       msd::embedded_positions(x, limb.mesh.mesh.tets, skin_embedding, skin_x);
       const msd::Mat3 rot = msd::hinge_rotation(leg.knee, state.knee.angle);
@@ -828,7 +816,6 @@ std::vector<LegRunSummary> run_leg_scene(const LegScene& scene, const std::strin
           b = std::max(b, (msd::Vec3(skin_x.col(i)) - ref).dot(nn));
         }
         row.push_back(b);
-        max_bulge[a] = std::max(max_bulge[a], b);
       }
       const msd::Vec3 shank = rot * shank_rest;
       row.push_back(std::asin(std::clamp(shank.normalized().dot(down), -1.0, 1.0)) / kDeg);
@@ -838,12 +825,10 @@ std::vector<LegRunSummary> run_leg_scene(const LegScene& scene, const std::strin
       double elastic = msd::conservative_energy(tm, x);
       for (size_t si = 0; si < leg.strands.size(); ++si) {
         const msd::LegStrand& s = leg.strands[si];
-        const msd::Points p = msd::leg_strand_points(leg, s, x, state.knee.angle);
-        std::vector<int> idx(static_cast<size_t>(p.cols()));
-        for (size_t k = 0; k < idx.size(); ++k) idx[k] = static_cast<int>(k);
         const double l0 = si < controls.strand_natural_length.size() ? controls.strand_natural_length[si] : s.natural_length;
         if (std::isfinite(l0))
-          elastic += msd::tendon_energy(p, idx, controls.tendon_length_scale[static_cast<size_t>(s.tendon)] * l0, s.k_t);
+          elastic += msd::leg_strand_energy(leg, s, x, state.knee.angle,
+                                            controls.tendon_length_scale[static_cast<size_t>(s.tendon)] * l0);
       }
       row.push_back(msd::leg_kinetic_energy(leg, state));
       row.push_back(elastic);
@@ -906,20 +891,10 @@ std::vector<LegRunSummary> run_leg_scene(const LegScene& scene, const std::strin
     while (first + 1 < frame_times.size() && frame_times[first] < scene.analysis_from - 1e-9) ++first;
     for (auto& [name, series] : recorded) series.erase(series.begin(), series.begin() + static_cast<long>(first));
     std::vector<double> times(frame_times.begin() + static_cast<long>(first), frame_times.end());
-    max_contact_area = *std::max_element(recorded["knee_contact_area"].begin(), recorded["knee_contact_area"].end());
-    for (size_t a = 0; a < scene.bulge_areas.size(); ++a) {
-      const auto& b = recorded["bulge_" + scene.bulge_areas[a].name];
-      max_bulge[a] = *std::max_element(b.begin(), b.end());
-    }
-    for (size_t k = 0; k < leg.obstacles.size(); ++k) {
-      const auto& fo = recorded["obstacle_force_" + leg.obstacles[k].name];
-      max_force[k] = *std::max_element(fo.begin(), fo.end());
-    }
-    for (size_t k = 0; k < leg.tendon_names.size(); ++k) {
-      const auto& st = recorded["straightness_" + leg.tendon_names[k]];
-      straight_rest[k] = st.front();
-      straight_max[k] = *std::max_element(st.begin(), st.end());
-    }
+    auto largest = [&](const std::string& column) {
+      const auto& c = recorded.at(column);
+      return *std::max_element(c.begin(), c.end());
+    };
     auto& v = sum.values;
     v["analysis_from_s"] = times.front();
     v["joint_space_tets_left_out"] = static_cast<double>(leg.joint_space_tets);
@@ -935,17 +910,15 @@ std::vector<LegRunSummary> run_leg_scene(const LegScene& scene, const std::strin
     const auto& below = recorded["lower_leg_below_horizontal"];
     v["lower_leg_highest_below_horizontal_deg"] = *std::min_element(below.begin(), below.end());
     v["lower_leg_end_below_horizontal_deg"] = below.back();
-    v["knee_contact_area_max_m2"] = max_contact_area;
+    v["knee_contact_area_max_m2"] = largest("knee_contact_area");
     v["knee_contact_area_end_m2"] = recorded["knee_contact_area"].back();
-    first_contact = -1.0;
     for (size_t i = 0; i < times.size(); ++i)
       if (recorded["knee_contacts"][i] > 0.0) {
-        first_contact = times[i];
+        v["knee_contact_first_s"] = times[i];
         break;
       }
-    if (first_contact >= 0.0) v["knee_contact_first_s"] = first_contact;
     for (size_t a = 0; a < scene.bulge_areas.size(); ++a) {
-      v["bulge_" + scene.bulge_areas[a].name + "_max_m"] = max_bulge[a];
+      v["bulge_" + scene.bulge_areas[a].name + "_max_m"] = largest("bulge_" + scene.bulge_areas[a].name);
       v["bulge_" + scene.bulge_areas[a].name + "_end_m"] = recorded["bulge_" + scene.bulge_areas[a].name].back();
     }
     for (const char* m : {"front_muscle", "back_muscle"}) {
@@ -962,10 +935,11 @@ std::vector<LegRunSummary> run_leg_scene(const LegScene& scene, const std::strin
     for (size_t k = 0; k < leg.tendon_names.size(); ++k) {
       const auto& T = recorded["tension_" + leg.tendon_names[k]];
       v["tendon_" + leg.tendon_names[k] + "_tension_max_N"] = *std::max_element(T.begin(), T.end());
-      v["tendon_" + leg.tendon_names[k] + "_straightness_start"] = straight_rest[k];
-      v["tendon_" + leg.tendon_names[k] + "_straightness_max"] = straight_max[k];
+      v["tendon_" + leg.tendon_names[k] + "_straightness_start"] = recorded["straightness_" + leg.tendon_names[k]].front();
+      v["tendon_" + leg.tendon_names[k] + "_straightness_max"] = largest("straightness_" + leg.tendon_names[k]);
     }
-    for (size_t k = 0; k < leg.obstacles.size(); ++k) v["obstacle_" + leg.obstacles[k].name + "_force_max_N"] = max_force[k];
+    for (size_t k = 0; k < leg.obstacles.size(); ++k)
+      v["obstacle_" + leg.obstacles[k].name + "_force_max_N"] = largest("obstacle_force_" + leg.obstacles[k].name);
     const auto& sag = recorded["thigh_flesh_sag"];
     v["thigh_flesh_sag_end_m"] = sag.back();
     v["thigh_flesh_sag_max_m"] = *std::max_element(sag.begin(), sag.end());

@@ -36,9 +36,13 @@ double add_tendon_forces(const Points& x, const std::vector<int>& nodes, double 
   return t;
 }
 
-double tendon_energy(const Points& x, const std::vector<int>& nodes, double natural_length, double k_t) {
-  const double stretch = strand_length(x, nodes) - natural_length;
+double tendon_energy_at_length(double length, double natural_length, double k_t) {
+  const double stretch = length - natural_length;
   return stretch > 0.0 ? 0.5 * k_t * stretch * stretch : 0.0;
+}
+
+double tendon_energy(const Points& x, const std::vector<int>& nodes, double natural_length, double k_t) {
+  return tendon_energy_at_length(strand_length(x, nodes), natural_length, k_t);
 }
 
 }  // namespace msd

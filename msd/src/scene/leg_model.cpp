@@ -131,11 +131,7 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
         ls.anchor_bone = bone;
         ls.anchor_rest = *o.tendon_insertions[ti];
       }
-      ls.natural_length = strand_length(leg_strand_points(leg, ls, leg.tissue.rest_positions, 0.0), [&] {
-        std::vector<int> idx(ls.nodes.size() + (ls.anchored ? 1 : 0));
-        for (size_t k = 0; k < idx.size(); ++k) idx[k] = static_cast<int>(k);
-        return idx;
-      }());
+      ls.natural_length = leg_strand_length(leg, ls, leg.tissue.rest_positions, 0.0);
       if (!(ls.natural_length > 0.0)) throw Error("leg: tendon '" + t.name + "' has a strand of zero length");
       const auto mod = o.tendon_moduli.find(t.name);
       ls.k_t = tendon_stiffness(mod != o.tendon_moduli.end() ? mod->second : o.tendon_modulus, o.strand_area,
@@ -250,10 +246,15 @@ void step_leg(const LegModel& model, LegState& state, const LegControls& c, doub
           add_tendon_forces(ts.x, s.nodes, scale * s.natural_length, s.k_t, f);
       continue;
     }
-    const Points p = leg_strand_points(model, s, ts.x, state.knee.angle);
-    std::vector<int> idx(static_cast<size_t>(p.cols()));
-    for (size_t k = 0; k < idx.size(); ++k) idx[k] = static_cast<int>(k);
-    Points fl = Points::Zero(3, p.cols());
+    Points& p = scratch.strand_points;
+    Points& fl = scratch.strand_forces;
+    std::vector<int>& idx = scratch.strand_index;
+    leg_strand_points(model, s, ts.x, state.knee.angle, p);
+    if (idx.size() != static_cast<size_t>(p.cols())) {
+      idx.resize(static_cast<size_t>(p.cols()));
+      for (size_t k = 0; k < idx.size(); ++k) idx[k] = static_cast<int>(k);
+    }
+    fl.setZero(3, p.cols());
     scratch.tendon_tension[static_cast<size_t>(s.tendon)] += add_tendon_forces(p, idx, scale * s.natural_length, s.k_t, fl);
     for (size_t k = 0; k < s.nodes.size(); ++k) f.col(s.nodes[k]) += fl.col(static_cast<Eigen::Index>(k));
     if (s.anchor_bone == 2) {
@@ -347,14 +348,38 @@ void step_leg(const LegModel& model, LegState& state, const LegControls& c, doub
   }
 }
 
-Points leg_strand_points(const LegModel& model, const LegStrand& s, const Points& x, double angle) {
-  Points p(3, static_cast<Eigen::Index>(s.nodes.size() + (s.anchored ? 1 : 0)));
+namespace {
+
+// Where an anchored strand's insertion is with the knee at `angle`.
+Vec3 anchor_position(const LegModel& model, const LegStrand& s, double angle) {
+  return s.anchor_bone == 2 ? Vec3(model.knee.centre + hinge_rotation(model.knee, angle) * (s.anchor_rest - model.knee.centre))
+                            : s.anchor_rest;
+}
+
+}  // namespace
+
+void leg_strand_points(const LegModel& model, const LegStrand& s, const Points& x, double angle, Points& p) {
+  const Eigen::Index m = static_cast<Eigen::Index>(s.nodes.size() + (s.anchored ? 1 : 0));
+  if (p.cols() != m) p.resize(3, m);
   for (size_t k = 0; k < s.nodes.size(); ++k) p.col(static_cast<Eigen::Index>(k)) = x.col(s.nodes[k]);
-  if (s.anchored)
-    p.col(p.cols() - 1) = s.anchor_bone == 2 ? Vec3(model.knee.centre + hinge_rotation(model.knee, angle) *
-                                                                            (s.anchor_rest - model.knee.centre))
-                                             : s.anchor_rest;
+  if (s.anchored) p.col(m - 1) = anchor_position(model, s, angle);
+}
+
+Points leg_strand_points(const LegModel& model, const LegStrand& s, const Points& x, double angle) {
+  Points p;
+  leg_strand_points(model, s, x, angle, p);
   return p;
+}
+
+double leg_strand_length(const LegModel& model, const LegStrand& s, const Points& x, double angle) {
+  double length = strand_length(x, s.nodes);
+  if (s.anchored && !s.nodes.empty()) length += (anchor_position(model, s, angle) - Vec3(x.col(s.nodes.back()))).norm();
+  return length;
+}
+
+double leg_strand_energy(const LegModel& model, const LegStrand& s, const Points& x, double angle,
+                         double natural_length) {
+  return tendon_energy_at_length(leg_strand_length(model, s, x, angle), natural_length, s.k_t);
 }
 
 double passive_joint_torque(const LegModel& model, const HingeState& knee) {

@@ -79,3 +79,12 @@ TEST(Tendon, StiffnessIsModulusTimesAreaOverLength) {
   EXPECT_THROW(msd::tendon_stiffness(1e6, -1.0, 0.1), msd::Error);
   EXPECT_THROW(msd::tendon_stiffness(1e6, 1e-4, 0.0), msd::Error);
 }
+
+TEST(Tendon, EnergyAtLengthIsTheStrandsEnergyAndZeroWhenSlack) {
+  msd::Points x(3, 3);
+  x << 0, 0.3, 0.3, 0, 0, 0.4, 0, 0, 0;  // segments 0.3 and 0.4
+  const std::vector<int> nodes{0, 1, 2};
+  EXPECT_DOUBLE_EQ(msd::tendon_energy_at_length(0.7, 0.5, 100.0), 0.5 * 100.0 * 0.2 * 0.2);
+  EXPECT_NEAR(msd::tendon_energy(x, nodes, 0.5, 100.0), msd::tendon_energy_at_length(0.7, 0.5, 100.0), 1e-13);
+  EXPECT_EQ(msd::tendon_energy_at_length(0.7, 0.8, 100.0), 0.0);
+}

@@ -34,4 +34,7 @@ double add_tendon_forces(const Points& x, const std::vector<int>& nodes, double 
 /// The strand's elastic energy (J).
 double tendon_energy(const Points& x, const std::vector<int>& nodes, double natural_length, double k_t);
 
+/// The energy of a strand of current length `length` (J): k_t (L - L0)^2 / 2 for L > L0, else 0.
+double tendon_energy_at_length(double length, double natural_length, double k_t);
+
 }  // namespace msd

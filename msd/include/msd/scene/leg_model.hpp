@@ -160,6 +160,9 @@ struct LegScratch {
   Vec3 joint_reaction{Vec3::Zero()};   ///< force the femur exerts on the lower leg at the hinge, N
   SelfContactReport knee_contact;      ///< skin against skin behind the knee
   std::vector<ObstacleContact> obstacles;
+  // Buffers of the anchored strands' forces (reused every step, no allocation).
+  Points strand_points, strand_forces;
+  std::vector<int> strand_index;
 };
 
 /// Compiles the leg. Throws msd::Error if a bone has no tets or bone points,
@@ -179,6 +182,18 @@ void step_leg(const LegModel& model, LegState& state, const LegControls& control
 /// The strand's points (3 x m) at positions x with the knee at `angle`: its
 /// nodes, then its anchor where it has one.
 Points leg_strand_points(const LegModel& model, const LegStrand& strand, const Points& x, double angle);
+
+/// The same into p (resized to 3 x m only when its size differs).
+void leg_strand_points(const LegModel& model, const LegStrand& strand, const Points& x, double angle, Points& p);
+
+/// Length of the strand's polyline - its nodes, then its anchor - at x with
+/// the knee at `angle` (m).
+double leg_strand_length(const LegModel& model, const LegStrand& strand, const Points& x, double angle);
+
+/// The strand's elastic energy at x with the knee at `angle` for a natural
+/// length L0 (J; tendon_energy_at_length of leg_strand_length).
+double leg_strand_energy(const LegModel& model, const LegStrand& strand, const Points& x, double angle,
+                         double natural_length);
 
 /// The passive joint torque at a hinge state (N m).
 double passive_joint_torque(const LegModel& model, const HingeState& knee);
