@@ -20,19 +20,11 @@ namespace {
 
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
-struct Leg {
-  msd::LimbMesh mesh;
-  std::vector<msd::TendonStrands> tendons;
-};
-
-const Leg& leg() {
-  static const Leg l = [] {
+const msd::MeshedLeg& leg() {
+  static const msd::MeshedLeg l = [] {
     msd::LimbMeshOptions o;
     o.spacing = 0.0245;
-    Leg r{msd::mesh_limb(msd::read_leg_surfaces(std::string(TISSUEBENCH_DATA_DIR) + "/leg"), o), {}};
-    for (const msd::TendonPathSpec& t : msd::make_leg(msd::LegParameters{}).tendons)
-      r.tendons.push_back(msd::route_tendon(r.mesh, t));
-    return r;
+    return msd::mesh_leg(std::string(TISSUEBENCH_DATA_DIR) + "/leg", o);
   }();
   return l;
 }

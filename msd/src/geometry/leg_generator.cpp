@@ -343,4 +343,10 @@ void write_leg(const LegGeometry& leg, const LegParameters& p, double spacing, c
   fs::rename(scene.string() + ".partial", scene);
 }
 
+MeshedLeg mesh_leg(const std::string& dir, const LimbMeshOptions& options, const LegParameters& params) {
+  MeshedLeg leg{mesh_limb(read_leg_surfaces(dir), options), {}};
+  for (const TendonPathSpec& t : make_leg(params).tendons) leg.tendons.push_back(route_tendon(leg.mesh, t));
+  return leg;
+}
+
 }  // namespace msd

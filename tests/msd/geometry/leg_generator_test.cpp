@@ -175,3 +175,20 @@ TEST(LegGenerator, ShippedFilesAreWhatTheGeneratorWrites) {
     EXPECT_LT((shipped.vertices - mesh->vertices).cwiseAbs().maxCoeff(), 1e-9) << name;
   }
 }
+
+TEST(LegGenerator, MeshLegMeshesTheShippedSurfacesAndRoutesTheGeneratorsTendons) {
+  msd::LimbMeshOptions o;
+  o.spacing = 0.0245;
+  const msd::MeshedLeg leg = msd::mesh_leg(std::string(TISSUEBENCH_DATA_DIR) + "/leg", o);
+  const msd::LimbMesh direct = msd::mesh_limb(msd::read_leg_surfaces(std::string(TISSUEBENCH_DATA_DIR) + "/leg"), o);
+  EXPECT_EQ(leg.mesh.mesh.tets, direct.mesh.tets);
+  const msd::LegGeometry& g = default_leg();
+  ASSERT_EQ(leg.tendons.size(), g.tendons.size());
+  size_t strands = 0;
+  for (size_t k = 0; k < g.tendons.size(); ++k) {
+    EXPECT_EQ(leg.tendons[k].name, g.tendons[k].name);
+    EXPECT_EQ(leg.tendons[k].strands.size(), static_cast<size_t>(g.tendons[k].strands));
+    strands += leg.tendons[k].strands.size();
+  }
+  EXPECT_EQ(strands, 26u);
+}

@@ -14,21 +14,13 @@ namespace {
 
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
-struct ShippedLeg {
-  msd::LimbMesh mesh;
-  std::vector<msd::TendonStrands> tendons;
-};
-
 // The shipped leg meshed at the thesis' resolution with its four tendons (the
 // generator's paths: the shipped files are its output, LegGenerator tests).
-const ShippedLeg& shipped() {
-  static const ShippedLeg leg = [] {
+const msd::MeshedLeg& shipped() {
+  static const msd::MeshedLeg leg = [] {
     msd::LimbMeshOptions o;
     o.spacing = 0.0245;
-    ShippedLeg l{msd::mesh_limb(msd::read_leg_surfaces(std::string(TISSUEBENCH_DATA_DIR) + "/leg"), o), {}};
-    for (const msd::TendonPathSpec& t : msd::make_leg(msd::LegParameters{}).tendons)
-      l.tendons.push_back(msd::route_tendon(l.mesh, t));
-    return l;
+    return msd::mesh_leg(std::string(TISSUEBENCH_DATA_DIR) + "/leg", o);
   }();
   return leg;
 }
@@ -244,6 +236,17 @@ TEST(LegModel, AnchoredTendonsEndAtTheirInsertionAndTurnTheKneeThroughIt) {
     const msd::Vec3 expected =
         leg.knee.centre + msd::hinge_rotation(leg.knee, 90.0 * kDeg) * (insertion - leg.knee.centre);
     EXPECT_LT((q.col(q.cols() - 1) - expected).norm(), 1e-15);
+    // The length and energy helpers are the polyline's; the in-place form fills a reused buffer.
+    double bent = 0.0;
+    for (Eigen::Index k = 1; k < q.cols(); ++k) bent += (q.col(k) - q.col(k - 1)).norm();
+    EXPECT_NEAR(msd::leg_strand_length(leg, s, leg.tissue.rest_positions, 90.0 * kDeg), bent, 1e-15);
+    EXPECT_GT(std::abs(bent - length), 1e-4);  // the anchor moved: the length sees it
+    EXPECT_NEAR(msd::leg_strand_energy(leg, s, leg.tissue.rest_positions, 90.0 * kDeg, 0.9 * bent),
+                0.5 * s.k_t * (0.1 * bent) * (0.1 * bent), 1e-12 * s.k_t * bent * bent);
+    EXPECT_EQ(msd::leg_strand_energy(leg, s, leg.tissue.rest_positions, 90.0 * kDeg, 1.1 * bent), 0.0);
+    msd::Points buffer(3, 1);
+    msd::leg_strand_points(leg, s, leg.tissue.rest_positions, 90.0 * kDeg, buffer);
+    EXPECT_EQ(buffer, q);
   }
   EXPECT_EQ(anchored, 6);
   // Shortened by 10 %: 6 strands pull E A 0.1 each; the point lies in front

@@ -94,4 +94,16 @@ void write_leg(const LegGeometry& leg, const LegParameters& params, double spaci
 /// from `dir` as a limb, each region's source naming its file.
 LimbSurfaces read_leg_surfaces(const std::string& dir);
 
+/// A leg meshed with its tendons routed through the mesh.
+struct MeshedLeg {
+  LimbMesh mesh;
+  std::vector<TendonStrands> tendons;  ///< in the order of LegGeometry::tendons
+};
+
+/// The surfaces in `dir` (read_leg_surfaces) meshed with `options`, and the
+/// tendon paths of make_leg(params) routed through that mesh - for the shipped
+/// leg (msd/data/leg, written by write_leg with the default parameters), the
+/// leg the scenes, tests and benchmarks move.
+MeshedLeg mesh_leg(const std::string& dir, const LimbMeshOptions& options, const LegParameters& params = {});
+
 }  // namespace msd
