@@ -211,7 +211,9 @@ fem::Problem make_fem_problem(const Spec& spec, const std::string& vtu_directory
       fem::Traction t;
       t.face = static_cast<int>(std::find(names.begin(), names.end(), l.traction_face) - names.begin());
       t.total_force = {{l.traction.x(), l.traction.y(), l.traction.z()}};
-      t.path.points = {{0.0, 0.0}, {0.5 * l.release, 1.0}, {l.release, 1.0}};
+      t.path.points.clear();  // the preload up to the release (solved quasi-statically)
+      for (const auto& pt : preload_path(l))
+        if (pt.first <= l.release) t.path.points.push_back(pt);
       p.dynamics.preload = {t};
       p.dynamics.release_time = l.release;
     }

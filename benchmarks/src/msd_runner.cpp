@@ -61,7 +61,7 @@ msd::TissueMaterial make_material(const Spec& spec) {
   } else {
     m.mode = msd::ConstantsMode::Physical;
     m.youngs_modulus = spec.material.youngs_modulus.value_or(0.0);
-    m.damping_time = spec.material.damping_time.value_or(0.0);
+    m.damping_time = ms.damping_time ? *ms.damping_time : spec.material.damping_time.value_or(0.0);
     m.stiffness_scale = ms.stiffness_scale;
     m.repulsion_factor = ms.repulsion_factor;
     m.volume_factor = ms.volume_factor;
@@ -77,11 +77,10 @@ MsdProblem compile_msd(const Spec& spec) {
   // vibration holds its loads (gravity, if any) at factor 1.
   std::vector<std::pair<double, double>> path = l.path;
   if (l.type == "vibration") {
-    // Load factor: gravity (if any) throughout; a preload ramps over the first
-    // half of [0, release], holds, and is removed at the release.
+    // Load factor: gravity (if any) throughout; a preload ramps smoothly over
+    // the first half of [0, release], holds, and is removed at the release.
     path = {{0.0, 1.0}, {l.release + l.duration, 1.0}};
-    if (l.initial == "preload")
-      path = {{0.0, 0.0}, {0.5 * l.release, 1.0}, {l.release, 1.0}, {l.release * (1 + 1e-9), 0.0}, {l.release + l.duration, 0.0}};
+    if (l.initial == "preload") path = preload_path(l);
   }
   MsdProblem p{make_sample_mesh(spec), {}, msd::LoadingPath(path, spec.path + ": loading.path"), {}, l.type,
                {}, {}, {}, {}, 0.0, {}, false, {}};

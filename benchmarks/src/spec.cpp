@@ -136,7 +136,7 @@ MaterialSpec parse_material(const Fields& given) {
 
 MsdSpec parse_msd(const Fields& f) {
   f.only({"constants", "k_s", "k_d", "k_r", "k_v", "stiffness_scale", "repulsion_factor",
-          "volume_factor", "repulsion_floor", "mass_lumping", "terms", "nonlinear_threshold",
+          "volume_factor", "damping_time", "repulsion_floor", "mass_lumping", "terms", "nonlinear_threshold",
           "integrator", "dt", "calibration", "rtol", "atol"});
   MsdSpec m;
   m.constants = f.text_or("constants", m.constants);
@@ -145,11 +145,11 @@ MsdSpec parse_msd(const Fields& f) {
   for (const char* k : {"k_s", "k_d", "k_r", "k_v"})
     if (!raw && f.has(k))
       throw msd::Error(f.where(k) + "raw constants need 'constants: raw'");
-  for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "calibration"})
+  for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time", "calibration"})
     if (raw && f.has(k))
       throw msd::Error(f.where(k) + "only meaningful with 'constants: physical'");
   if (f.has("calibration")) {
-    for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor"})
+    for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time"})
       if (f.has(k))
         throw msd::Error(f.where(k) + "given together with 'calibration', which sets it; give one or the other");
     m.calibration = f.text("calibration");
@@ -169,6 +169,10 @@ MsdSpec parse_msd(const Fields& f) {
     m.volume_factor = f.number_or("volume_factor", 0.0);
     for (const char* k : {"repulsion_factor", "volume_factor"})
       if (f.number_or(k, 0.0) < 0.0) throw msd::Error(f.where(k) + "must be >= 0");
+    if (f.has("damping_time")) {
+      m.damping_time = f.number("damping_time");
+      if (!(*m.damping_time >= 0.0)) throw msd::Error(f.where("damping_time") + "must be >= 0 (s)");
+    }
   }
   m.repulsion_floor = f.number_or("repulsion_floor", m.repulsion_floor);
   if (!(m.repulsion_floor > 0.0 && m.repulsion_floor < 1.0))
@@ -409,6 +413,21 @@ Spec load_spec(const std::string& path) {
   std::ostringstream ss;
   ss << in.rdbuf();
   return parse_spec(ss.str(), path);
+}
+
+std::vector<std::pair<double, double>> preload_path(const LoadingSpec& l) {
+  const int pieces = 16;
+  const double T = 0.5 * l.release;
+  std::vector<std::pair<double, double>> path;
+  for (int k = 0; k <= pieces; ++k) {
+    const double s = static_cast<double>(k) / pieces;
+    path.emplace_back(s * T, 0.5 * (1.0 - std::cos(M_PI * s)));
+  }
+  path.back().second = 1.0;
+  path.emplace_back(l.release, 1.0);
+  path.emplace_back(l.release * (1 + 1e-9), 0.0);
+  path.emplace_back(l.release + l.duration, 0.0);
+  return path;
 }
 
 }  // namespace bench

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace {
 
 const char* kGood = R"(name: t
@@ -155,4 +157,54 @@ TEST(Spec, IndentationFieldsAreReadAndCheckedByName) {
             std::string::npos);
   EXPECT_NE(err(replace(kIndentation, "contact_penalty: 50", "contact_penalty: 0")).find("fem.contact_penalty"),
             std::string::npos);
+}
+
+TEST(Spec, MsdDampingTimeOverridesTheMaterialsForTheMsdOnly) {
+  const std::string t = replace(kGood, "dt: 1.0e-4", "dt: 1.0e-4, damping_time: 0.01");
+  const bench::Spec s = bench::parse_spec(t, "s.yaml");
+  ASSERT_TRUE(s.msd->damping_time);
+  EXPECT_DOUBLE_EQ(*s.msd->damping_time, 0.01);
+  EXPECT_FALSE(s.material.damping_time);  // the FEM's Rayleigh constant is the material's, untouched
+  EXPECT_FALSE(bench::parse_spec(kGood, "s.yaml").msd->damping_time);
+  EXPECT_NE(error_of(replace(kGood, "dt: 1.0e-4", "dt: 1.0e-4, damping_time: -1")).find("msd.damping_time: must be >= 0"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(kGood, "constants: physical, dt: 1.0e-4", "constants: raw, k_s: 3, dt: 1.0e-4, damping_time: 0.01"))
+                .find("msd.damping_time: only meaningful with 'constants: physical'"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(kGood, "dt: 1.0e-4", "dt: 1.0e-4, calibration: c.yaml, damping_time: 0.01"))
+                .find("given together with 'calibration'"),
+            std::string::npos);
+}
+
+TEST(Spec, PreloadRampsSmoothlyHoldsAndReleases) {
+  bench::LoadingSpec l;
+  l.release = 2.0;
+  l.duration = 1.5;
+  const auto p = bench::preload_path(l);
+  ASSERT_GE(p.size(), 5u);
+  EXPECT_DOUBLE_EQ(p.front().first, 0.0);
+  EXPECT_DOUBLE_EQ(p.front().second, 0.0);
+  // The ramp: (1 - cos(pi t / T)) / 2 over T = release / 2 at its way-points, monotone.
+  for (size_t k = 1; k < p.size(); ++k) {
+    EXPECT_GT(p[k].first, p[k - 1].first) << k;
+    if (p[k].first <= 1.0) {
+      EXPECT_GE(p[k].second, p[k - 1].second) << k;
+      EXPECT_NEAR(p[k].second, 0.5 * (1.0 - std::cos(M_PI * p[k].first / 1.0)), 1e-12) << k;
+    }
+  }
+  // Slow start (a linear ramp over T would be at 1/16 after the first piece).
+  EXPECT_LT(p[1].second, 0.01);
+  // Held at 1 to the release, removed just after it, 0 to the end.
+  auto factor_at = [&](double t) {
+    for (size_t k = 1; k < p.size(); ++k)
+      if (t <= p[k].first)
+        return p[k - 1].second + (p[k].second - p[k - 1].second) * (t - p[k - 1].first) / (p[k].first - p[k - 1].first);
+    return p.back().second;
+  };
+  EXPECT_DOUBLE_EQ(factor_at(1.0), 1.0);
+  EXPECT_DOUBLE_EQ(factor_at(1.7), 1.0);
+  EXPECT_DOUBLE_EQ(factor_at(2.0), 1.0);
+  EXPECT_NEAR(factor_at(2.1), 0.0, 1e-12);
+  EXPECT_DOUBLE_EQ(p.back().first, 3.5);
+  EXPECT_DOUBLE_EQ(p.back().second, 0.0);
 }

@@ -45,7 +45,12 @@ struct MsdSpec {
   double k_s = 0.0, k_d = 0.0, k_r = 0.0, k_v = 0.0;
   // physical
   double stiffness_scale = 1.0, repulsion_factor = 0.0, volume_factor = 0.0;
-  /// Calibration file the three physical factors above were read from ("" =
+  /// s; the MSD dampers' time constant (k_d = damping_time k_s) in place of the
+  /// material's damping_time, which stays the FEM's Rayleigh constant. The
+  /// dampers sit on the springs only, so the lattice needs a longer one to damp
+  /// like the continuum; a calibration fits it (empty: the material's).
+  std::optional<double> damping_time;
+  /// Calibration file the physical factors above were read from ("" =
   /// given in the spec); `msd.calibration: FILE`, relative to the spec's folder.
   std::string calibration;
   double repulsion_floor = 0.01;
@@ -131,5 +136,14 @@ Spec load_spec(const std::string& path);
 
 /// Parses spec text; `source` names it in messages and resolves relative paths.
 Spec parse_spec(const std::string& text, const std::string& source);
+
+/// Load factor of a vibration preload (loading.initial: preload) as way-points
+/// (time s, factor): 0 -> 1 over the first half of [0, release] along the
+/// smooth ramp (1 - cos(pi t / T)) / 2 in 16 linear pieces, held to the
+/// release, removed there, 0 to release + duration. A dynamic solver (the MSD
+/// model) is left ringing at the release by about 1/(omega T) of the static
+/// stretch after a linear ramp and by about (pi / omega T)^2 after a smooth
+/// one; the FEM solves the preload quasi-statically, where only the end counts.
+std::vector<std::pair<double, double>> preload_path(const LoadingSpec& loading);
 
 }  // namespace bench
