@@ -141,13 +141,14 @@ int cmd_calibrate(const CalibrateArgs& args) {
   if (fem::Session::size() > 1) throw msd::Error("calibrate runs on one process (no mpirun)");
   std::vector<std::string> specs = args.specs;
   if (specs.empty())
-    for (const char* n : {"calibrate_uniaxial.yaml", "calibrate_shear.yaml"})
+    for (const char* n : {"calibrate_uniaxial.yaml", "calibrate_shear.yaml", "calibrate_ringdown.yaml"})
       specs.push_back((fs::path(TISSUEBENCH_SPECS_DIR) / n).string());
   auto log = [&](const std::string& line) {
     if (!args.quiet) std::printf("%s\n", line.c_str()), std::fflush(stdout);
   };
   const bench::CalibrationResult r = bench::calibrate(args.material, specs, args.out, {}, log,
-                                                      args.max_evaluations, args.volume_weight);
+                                                      args.max_evaluations, args.volume_weight,
+                                                      args.max_damping_evaluations);
   const std::string file = (fs::path(args.out) / (args.material + ".yaml")).string();
   bench::write_calibration(r, file);
   std::printf("Calibration of %s: %s after %d iterations, %d evaluations\n", r.material.c_str(),
@@ -156,12 +157,25 @@ int cmd_calibrate(const CalibrateArgs& args) {
   std::printf("%-20s %10.4g %10.4g\n", "stiffness_scale", r.before.stiffness_scale, r.after.stiffness_scale);
   std::printf("%-20s %10.4g %10.4g\n", "repulsion_factor", r.before.repulsion_factor, r.after.repulsion_factor);
   std::printf("%-20s %10.4g %10.4g\n", "volume_factor", r.before.volume_factor, r.after.volume_factor);
-  std::printf("%-20s %10.4g %10.4g\n", "objective", r.objective_before, r.objective_after);
+  if (r.damping_fitted)
+    std::printf("%-20s %10.4g %10.4g   (stage 2: %s after %d evaluations)\n", "damping_time [s]",
+                r.before.damping_time.value_or(0.0), r.after.damping_time.value_or(0.0), r.damping_status.c_str(),
+                r.damping_evaluations);
+  else
+    std::printf("%-20s %10.4g %10s   (not fitted: no ring-down spec)\n", "damping_time [s]",
+                r.before.damping_time.value_or(0.0), "-");
+  std::printf("%-20s %10.4g %10.4g\n", "objective (stage 1)", r.objective_before, r.objective_after);
   std::printf("%-20s %-16s %12s %12s %12s %12s\n", "spec", "series", "relRMS before", "relRMS after",
               "dV max before", "dV max after");
   for (const auto& s : r.specs)
     std::printf("%-20s %-16s %12.4f %12.4f %12.4f %12.4f\n", s.spec.c_str(), s.load_series.c_str(),
                 s.rel_rms_before, s.rel_rms_after, s.volume_max_error_before, s.volume_max_error_after);
+  for (const auto& s : r.specs)
+    if (s.ring_down())
+      std::printf("%s: damping ratio FEM %.4f, MSD %.4f before, %.4f after; first frequency FEM %.3f Hz, MSD %.3f "
+                  "before, %.3f after\n",
+                  s.spec.c_str(), s.damping_ratio_fem, s.damping_ratio_before, s.damping_ratio_after, s.frequency_fem,
+                  s.frequency_before, s.frequency_after);
   std::printf("calibration: %s (use: tissuebench run SPEC --calibration %s, or msd.calibration in a spec)\n",
               file.c_str(), file.c_str());
   return 0;

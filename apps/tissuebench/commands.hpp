@@ -42,8 +42,9 @@ int cmd_compare(const CompareArgs& args);
 
 struct CalibrateArgs {
   std::string material, out = "calibration";
-  std::vector<std::string> specs;  ///< empty: the built-in calibrate_uniaxial and calibrate_shear
+  std::vector<std::string> specs;  ///< empty: the built-in calibrate_uniaxial, calibrate_shear, calibrate_ringdown
   int max_evaluations = 40;
+  int max_damping_evaluations = 20;
   double volume_weight = 2.0;
   bool quiet = false;
 };

@@ -110,20 +110,26 @@ int main(int argc, char** argv) {
 
   app::CalibrateArgs calibrate;
   auto* calibrate_cmd = cli.add_subcommand(
-      "calibrate", "Fit a material's MSD constants (stiffness scale, repulsion and volume factors) to the FEM "
-                   "reference over the uni-axial and shear calibration specs");
+      "calibrate", "Fit a material's MSD constants to the FEM reference: stiffness scale, repulsion and volume "
+                   "factors over the uni-axial and shear calibration specs, then the dampers' time constant on "
+                   "a ring-down");
   calibrate_cmd->add_option("--material", calibrate.material, "Material (an entry of benchmarks/materials.yaml)")
       ->required();
   calibrate_cmd->add_option("--out", calibrate.out, "Folder for NAME.yaml and the FEM references")
       ->capture_default_str();
   calibrate_cmd->add_option("--specs", calibrate.specs,
-                            "Calibration specs (uniaxial or simple_shear; default: the built-in "
-                            "calibrate_uniaxial.yaml and calibrate_shear.yaml)")
+                            "Calibration specs (uniaxial or simple_shear; vibration with a preload for the "
+                            "damping; default: the built-in calibrate_uniaxial.yaml, calibrate_shear.yaml and "
+                            "calibrate_ringdown.yaml)")
       ->delimiter(',')
       ->check(CLI::ExistingFile);
   calibrate_cmd->add_option("--max-evaluations", calibrate.max_evaluations,
-                            "Budget of objective evaluations for the optimiser")
+                            "Budget of objective evaluations for the optimiser (stage 1: the elastic factors)")
       ->check(CLI::Range(4, 1000))
+      ->capture_default_str();
+  calibrate_cmd->add_option("--max-damping-evaluations", calibrate.max_damping_evaluations,
+                            "Budget of objective evaluations for the damping fit (stage 2)")
+      ->check(CLI::Range(2, 1000))
       ->capture_default_str();
   calibrate_cmd->add_option("--volume-weight", calibrate.volume_weight,
                             "Weight w of the uni-axial volume-ratio residual w (V_msd - V_fem) against the "

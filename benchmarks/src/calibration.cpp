@@ -6,11 +6,13 @@
 #include "bench/msd_runner.hpp"
 #include "bench/results_file.hpp"
 #include "bench/series_tools.hpp"
+#include "bench/signal_analysis.hpp"
 #include "bench/sha256.hpp"
 
 #include <unsupported/Eigen/NonLinearOptimization>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <ctime>
 #include <filesystem>
@@ -18,6 +20,7 @@
 #include <iomanip>
 #include <regex>
 #include <sstream>
+#include <tuple>
 
 namespace bench {
 
@@ -30,6 +33,7 @@ Spec with_parameters(const Spec& spec, const CalibrationParameters& p) {
   s.msd->stiffness_scale = p.stiffness_scale;
   s.msd->repulsion_factor = p.repulsion_factor;
   s.msd->volume_factor = p.volume_factor;
+  if (p.damping_time) s.msd->damping_time = p.damping_time;
   return s;
 }
 
@@ -47,7 +51,6 @@ std::map<std::string, std::vector<double>> simulate_msd(const Spec& spec) {
 
 namespace {
 
-
 struct Target {
   Spec spec;
   std::string series;
@@ -55,13 +58,38 @@ struct Target {
   double rms = 1.0;
   bool volume = false;
   double volume_weight = 2.0;
+  // Ring-down specs (stage 2): the FEM's damping ratio and frequency.
+  bool ring_down = false;
+  double zeta = 0.0, frequency = 0.0;
+  size_t index = 0;  // in the calibration's spec list
 };
 
-// Residuals of one parameter set, appended to r. Returns false if the MSD run failed.
-bool residuals(const std::vector<Target>& targets, const CalibrationParameters& p, std::vector<double>& r,
-               std::vector<std::pair<double, double>>* errors = nullptr) {
+struct TargetError {
+  size_t index = 0;
+  double rel = 0.0, volume = 0.0;  // relative error of the fitted quantity, largest volume-ratio error
+  double zeta = 0.0, frequency = 0.0;  // ring-down: the MSD's
+};
+
+// The MSD ring-down of a vibration spec: the free end after the release.
+RingDown msd_ring_down(const Spec& spec, const std::map<std::string, std::vector<double>>& s) {
+  std::vector<double> t, x;
+  const auto& tm = s.at("time");
+  const auto& tip = s.at("tip_displacement");
+  for (size_t i = 0; i < tm.size(); ++i)
+    if (tm[i] >= spec.loading.release - 1e-12) {
+      t.push_back(tm[i]);
+      x.push_back(tip[i]);
+    }
+  return analyse_ring_down(t, x);
+}
+
+// Residuals of one parameter set over `targets`, appended to r. Returns false
+// if an MSD run failed (or its ring-down could not be measured).
+bool residuals(const std::vector<const Target*>& targets, const CalibrationParameters& p, std::vector<double>& r,
+               std::vector<TargetError>* errors = nullptr) {
   r.clear();
-  for (const Target& tg : targets) {
+  for (const Target* tgp : targets) {
+    const Target& tg = *tgp;
     std::map<std::string, std::vector<double>> s;
     try {
       s = simulate_msd(with_parameters(tg.spec, p));
@@ -69,9 +97,23 @@ bool residuals(const std::vector<Target>& targets, const CalibrationParameters& 
       return false;
     }
     const auto& tm = s.at("time");
+    TargetError e;
+    e.index = tg.index;
+    if (tg.ring_down) {
+      const RingDown rd = msd_ring_down(tg.spec, s);
+      if (!(rd.damping_ratio > 0.0) || rd.peaks < 2) return false;
+      const double d = (rd.damping_ratio - tg.zeta) / tg.zeta;
+      r.push_back(d);
+      e.rel = std::abs(d);
+      e.zeta = rd.damping_ratio;
+      e.frequency = rd.frequency;
+      for (double v : s.at("volume_ratio")) e.volume = std::max(e.volume, std::abs(v - 1.0));
+      if (errors) errors->push_back(e);
+      continue;
+    }
     const auto& ym = s.at(tg.series);
     const double n = static_cast<double>(tg.t.size());
-    double sum = 0.0, vmax = 0.0;
+    double sum = 0.0;
     for (size_t i = 0; i < tg.t.size(); ++i) {
       const double y = interpolate(tm, ym, tg.t[i]);
       if (std::isnan(y)) return false;  // the run did not reach a reference time
@@ -81,28 +123,34 @@ bool residuals(const std::vector<Target>& targets, const CalibrationParameters& 
       if (tg.volume) {
         const double dv = interpolate(tm, s.at("volume_ratio"), tg.t[i]) - tg.v[i];
         r.push_back(tg.volume_weight * dv / std::sqrt(n));
-        vmax = std::max(vmax, std::abs(dv));
+        e.volume = std::max(e.volume, std::abs(dv));
       }
     }
-    if (errors) errors->push_back({std::sqrt(sum / n), vmax});
+    e.rel = std::sqrt(sum / n);
+    if (errors) errors->push_back(e);
   }
   return true;
 }
 
+double logistic(double q, double lo, double hi) { return lo + (hi - lo) / (1.0 + std::exp(-q)); }
+
+double inverse_logistic(double p, double lo, double hi) {
+  const double s = std::clamp((p - lo) / (hi - lo), 1e-6, 1 - 1e-6);
+  return std::log(s / (1 - s));
+}
+
+// The functor Eigen's Levenberg-Marquardt minimises: the residuals of the
+// parameter set params(q) over the stage's targets, within an evaluation budget.
 struct Fit {
-  const std::vector<Target>& targets;
-  const CalibrationBounds& b;
+  std::vector<const Target*> targets;
+  std::function<CalibrationParameters(const Eigen::VectorXd&)> params;
   int m;
   int* evaluations;
   int budget;
   const std::function<void(const std::string&)>& log;
   mutable Eigen::VectorXd last_q, last_f;
+  mutable double first_objective = -1.0;  // at the starting point
 
-  static double map(double q, double lo, double hi) { return lo + (hi - lo) / (1.0 + std::exp(-q)); }
-  CalibrationParameters params(const Eigen::VectorXd& q) const {
-    return {map(q[0], b.scale_lo, b.scale_hi), map(q[1], b.repulsion_lo, b.repulsion_hi),
-            map(q[2], b.volume_lo, b.volume_hi)};
-  }
   int values() const { return m; }
   int operator()(const Eigen::VectorXd& q, Eigen::VectorXd& f) const {
     std::vector<double> r;
@@ -121,11 +169,13 @@ struct Fit {
     f = Eigen::Map<Eigen::VectorXd>(r.data(), m);
     last_q = q;
     last_f = f;
+    if (first_objective < 0.0) first_objective = f.squaredNorm();
     if (log) {
       std::ostringstream s;
       s << std::setprecision(5) << "  evaluation " << *evaluations << ": scale " << p.stiffness_scale
-        << ", repulsion " << p.repulsion_factor << ", volume " << p.volume_factor << " -> objective "
-        << f.squaredNorm();
+        << ", repulsion " << p.repulsion_factor << ", volume " << p.volume_factor;
+      if (p.damping_time) s << ", damping_time " << *p.damping_time;
+      s << " -> objective " << f.squaredNorm();
       log(s.str());
     }
     return 0;
@@ -145,14 +195,31 @@ struct Fit {
   }
 };
 
-double inverse_map(double p, double lo, double hi) {
-  const double s = std::clamp((p - lo) / (hi - lo), 1e-6, 1 - 1e-6);
-  return std::log(s / (1 - s));
+struct Minimum {
+  std::string status;
+  int iterations = 0;
+  double objective = 0.0;  // at the accepted point
+};
+
+// Runs Levenberg-Marquardt from q (left at the accepted point).
+Minimum minimise(Fit& fit, Eigen::VectorXd& q, int budget) {
+  Eigen::LevenbergMarquardt<Fit> lm(fit);
+  lm.parameters.maxfev = 10 * budget;  // the budget is enforced by Fit (Jacobian columns count)
+  lm.parameters.ftol = 1e-6;
+  lm.parameters.xtol = 1e-6;
+  const Eigen::LevenbergMarquardtSpace::Status status = lm.minimize(q);
+  const char* names[] = {"improper input", "converged (relative reduction)", "converged (relative error)",
+                         "converged (both)", "converged (cosinus)", "too many function evaluations",
+                         "ftol too small", "xtol too small", "gtol too small", "evaluation budget spent"};
+  const int code = static_cast<int>(status);
+  return {(code >= 0 && code < 10) ? names[code] : "status " + std::to_string(code), static_cast<int>(lm.iter),
+          lm.fnorm * lm.fnorm};
 }
 
 std::string load_series_of(const Spec& s) {
-  if (s.loading.type != "uniaxial" && s.loading.type != "simple_shear")
-    throw msd::Error(s.path + ": calibration specs must be uniaxial or simple_shear");
+  if (s.loading.type != "uniaxial" && s.loading.type != "simple_shear" && s.loading.type != "vibration")
+    throw msd::Error(s.path + ": calibration specs must be uniaxial or simple_shear (stage 1) or vibration (stage 2)");
+  if (s.loading.type == "vibration") return "damping_ratio";
   return load_series_name(s.loading.type);
 }
 
@@ -161,7 +228,7 @@ std::string load_series_of(const Spec& s) {
 CalibrationResult calibrate(const std::string& material, const std::vector<std::string>& spec_files,
                             const std::string& out_dir, const CalibrationBounds& bounds,
                             const std::function<void(const std::string&)>& log, int max_evaluations,
-                            double volume_weight) {
+                            double volume_weight, int max_damping_evaluations) {
   if (!(volume_weight >= 0.0)) throw msd::Error("calibration: the volume weight must be >= 0");
   CalibrationResult res;
   res.material = material;
@@ -175,69 +242,122 @@ CalibrationResult calibrate(const std::string& material, const std::vector<std::
     ss << in.rdbuf();
     const std::string text = std::regex_replace(ss.str(), std::regex("library: *[A-Za-z_]+"), "library: " + material);
     Target tg;
+    tg.index = targets.size();
     tg.spec = parse_spec(text, file);
     if (!tg.spec.msd) throw msd::Error(file + ": a calibration spec needs an msd section");
+    if (tg.spec.msd->damping_time)
+      throw msd::Error(file + ": msd.damping_time: a calibration spec takes the material's (stage 2 fits it)");
     tg.series = load_series_of(tg.spec);
+    tg.ring_down = tg.series == "damping_ratio";
+    if (tg.ring_down && tg.spec.loading.initial != "preload")
+      throw msd::Error(file + ": loading.initial: a ring-down calibration spec starts from a preload (an "
+                              "equilibrium both solvers share)");
     tg.volume = tg.spec.loading.type == "uniaxial" && volume_weight > 0.0;
     tg.volume_weight = volume_weight;
+    targets.push_back(std::move(tg));
+  }
+  if (std::all_of(targets.begin(), targets.end(), [](const Target& t) { return t.ring_down; }))
+    throw msd::Error("calibration: no uniaxial or simple_shear spec among the calibration specs (stage 1 needs one)");
+  for (Target& tg : targets) {
+    const std::string& file = tg.spec.path;
     const std::string fem_file = (fs::path(out_dir) / (tg.spec.name + "_" + material + "_fem.h5")).string();
     if (log) log("FEM reference: " + tg.spec.name + " (" + material + ")");
     if (ensure_fem_reference(tg.spec, fem_file) && log) log("  reused " + fem_file + " (same spec text)");
     const Results r = read_results(fem_file);
-    tg.t = r.series.at("time");
-    tg.y = r.series.at(tg.series);
-    tg.v = r.series.at("volume_ratio");
-    double sum = 0.0;
-    for (double v : tg.y) sum += v * v;
-    tg.rms = std::sqrt(sum / static_cast<double>(tg.y.size()));
+    SpecError e;
+    if (tg.ring_down) {
+      tg.zeta = r.metrics.count("damping_ratio") ? r.metrics.at("damping_ratio") : 0.0;
+      tg.frequency = r.metrics.count("first_frequency") ? r.metrics.at("first_frequency") : 0.0;
+      if (!(tg.zeta > 0.0))
+        throw msd::Error(file + ": the FEM ring-down has no measurable damping ratio (" + fem_file + ")");
+      e.damping_ratio_fem = tg.zeta;
+      e.frequency_fem = tg.frequency;
+    } else {
+      tg.t = r.series.at("time");
+      tg.y = r.series.at(tg.series);
+      tg.v = r.series.at("volume_ratio");
+      double sum = 0.0;
+      for (double v : tg.y) sum += v * v;
+      tg.rms = std::sqrt(sum / static_cast<double>(tg.y.size()));
+    }
     res.fem_version = r.meta.at("version");
     res.fem_git_revision = r.meta.at("git_revision");
-    SpecError e;
     e.spec = tg.spec.name;
     e.sha256 = sha256_hex(tg.spec.text);
     e.load_series = tg.series;
     res.specs.push_back(e);
-    targets.push_back(std::move(tg));
+  }
+  std::vector<const Target*> all, quasi_static, ring_downs;
+  for (const Target& tg : targets) {
+    all.push_back(&tg);
+    (tg.ring_down ? ring_downs : quasi_static).push_back(&tg);
   }
   const Spec& first = targets.front().spec;
-  res.before = {first.msd->stiffness_scale, first.msd->repulsion_factor, first.msd->volume_factor};
-  res.damping_time = first.material.damping_time.value_or(0.0);
+  res.before = {first.msd->stiffness_scale, first.msd->repulsion_factor, first.msd->volume_factor,
+                first.material.damping_time.value_or(0.0)};
 
-  std::vector<double> r0;
-  std::vector<std::pair<double, double>> err0;
-  if (!residuals(targets, res.before, r0, &err0)) throw msd::Error("calibration: the starting constants are unstable");
-  res.objective_before = 0.0;
-  for (double v : r0) res.objective_before += v * v;
-  for (size_t k = 0; k < err0.size(); ++k) {
-    res.specs[k].rel_rms_before = err0[k].first;
-    res.specs[k].volume_max_error_before = err0[k].second;
-  }
+  auto record = [&](const std::vector<TargetError>& err, bool after) {
+    for (const TargetError& t : err) {
+      SpecError& e = res.specs[t.index];
+      (after ? e.rel_rms_after : e.rel_rms_before) = t.rel;
+      (after ? e.volume_max_error_after : e.volume_max_error_before) = t.volume;
+      (after ? e.damping_ratio_after : e.damping_ratio_before) = t.zeta;
+      (after ? e.frequency_after : e.frequency_before) = t.frequency;
+    }
+  };
+  std::vector<double> r;
+  std::vector<TargetError> err;
+  if (!residuals(all, res.before, r, &err)) throw msd::Error("calibration: the starting constants are unstable");
+  record(err, false);
+
+  // Stage 1: the elastic factors on the quasi-static specs (damping: the material's).
+  if (log) log("stage 1: stiffness scale, repulsion and volume factors on the quasi-static specs");
+  const int m_quasi_static = static_cast<int>(r.size() - ring_downs.size());  // a ring-down adds one residual
   Eigen::VectorXd q(3);
-  q << inverse_map(res.before.stiffness_scale, bounds.scale_lo, bounds.scale_hi),
-      inverse_map(res.before.repulsion_factor, bounds.repulsion_lo, bounds.repulsion_hi),
-      inverse_map(res.before.volume_factor, bounds.volume_lo, bounds.volume_hi);
-  Fit fit{targets, bounds, static_cast<int>(r0.size()), &res.evaluations, max_evaluations, log, {}, {}};
-  Eigen::LevenbergMarquardt<Fit> lm(fit);
-  lm.parameters.maxfev = 10 * max_evaluations;  // the budget is enforced by Fit (Jacobian columns count)
-  lm.parameters.ftol = 1e-6;
-  lm.parameters.xtol = 1e-6;
-  const Eigen::LevenbergMarquardtSpace::Status status = lm.minimize(q);
-  res.iterations = static_cast<int>(lm.iter);
-  const char* names[] = {"improper input", "converged (relative reduction)", "converged (relative error)",
-                         "converged (both)", "converged (cosinus)", "too many function evaluations",
-                         "ftol too small", "xtol too small", "gtol too small", "evaluation budget spent"};
-  const int code = static_cast<int>(status);
-  res.optimiser_status = (code >= 0 && code < 10) ? names[code] : "status " + std::to_string(code);
+  q << inverse_logistic(res.before.stiffness_scale, bounds.scale_lo, bounds.scale_hi),
+      inverse_logistic(res.before.repulsion_factor, bounds.repulsion_lo, bounds.repulsion_hi),
+      inverse_logistic(res.before.volume_factor, bounds.volume_lo, bounds.volume_hi);
+  const std::optional<double> tau0 = res.before.damping_time;
+  Fit fit{quasi_static,
+          [&bounds, tau0](const Eigen::VectorXd& x) {
+            return CalibrationParameters{logistic(x[0], bounds.scale_lo, bounds.scale_hi),
+                                         logistic(x[1], bounds.repulsion_lo, bounds.repulsion_hi),
+                                         logistic(x[2], bounds.volume_lo, bounds.volume_hi), tau0};
+          },
+          m_quasi_static, &res.evaluations, max_evaluations, log, {}, {}};
+  const Minimum m1 = minimise(fit, q, max_evaluations);
+  res.optimiser_status = m1.status;
+  res.iterations = m1.iterations;
+  res.objective_before = fit.first_objective;
+  res.objective_after = m1.objective;
   res.after = fit.params(q);
-  std::vector<double> r1;
-  std::vector<std::pair<double, double>> err1;
-  residuals(targets, res.after, r1, &err1);
-  res.objective_after = 0.0;
-  for (double v : r1) res.objective_after += v * v;
-  for (size_t k = 0; k < err1.size(); ++k) {
-    res.specs[k].rel_rms_after = err1[k].first;
-    res.specs[k].volume_max_error_after = err1[k].second;
+
+  // Stage 2: the dampers' time constant on the ring-down specs, the elastic factors fixed.
+  if (!ring_downs.empty()) {
+    res.damping_fitted = true;
+    if (log) log("stage 2: the dampers' time constant on the ring-down specs");
+    const CalibrationParameters elastic = res.after;
+    Eigen::VectorXd qd(1);
+    qd << inverse_logistic(*tau0, bounds.damping_lo, bounds.damping_hi);
+    Fit dfit{ring_downs,
+             [&bounds, elastic](const Eigen::VectorXd& x) {
+               CalibrationParameters p = elastic;
+               p.damping_time = logistic(x[0], bounds.damping_lo, bounds.damping_hi);
+               return p;
+             },
+             static_cast<int>(ring_downs.size()), &res.damping_evaluations, max_damping_evaluations, log, {}, {}};
+    const Minimum m2 = minimise(dfit, qd, max_damping_evaluations);
+    if (dfit.first_objective < 0.0)
+      throw msd::Error("calibration: the stage-1 constants with the material's damping_time are unstable on the "
+                       "ring-down spec");
+    res.damping_status = m2.status;
+    res.damping_iterations = m2.iterations;
+    res.damping_objective_before = dfit.first_objective;
+    res.damping_objective_after = m2.objective;
+    res.after = dfit.params(qd);
   }
+  if (!residuals(all, res.after, r, &err)) throw msd::Error("calibration: the fitted constants are unstable");
+  record(err, true);
   const std::time_t now = std::time(nullptr);
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
@@ -253,20 +373,36 @@ void write_calibration(const CalibrationResult& r, const std::string& path) {
       << "# (tissuebench calibrate; objective and optimiser: benchmarks/include/bench/calibration.hpp).\n"
       << "material: " << r.material << "\n"
       << "parameters:\n  stiffness_scale: " << r.after.stiffness_scale << "\n  repulsion_factor: "
-      << r.after.repulsion_factor << "\n  volume_factor: " << r.after.volume_factor << "\n"
-      << "damping_time: " << r.damping_time << "   # not fitted (see the header)\n"
-      << "starting_parameters:\n  stiffness_scale: " << r.before.stiffness_scale << "\n  repulsion_factor: "
-      << r.before.repulsion_factor << "\n  volume_factor: " << r.before.volume_factor << "\n"
+      << r.after.repulsion_factor << "\n  volume_factor: " << r.after.volume_factor << "\n";
+  const double tau0 = r.before.damping_time.value_or(0.0);
+  if (r.damping_fitted && r.after.damping_time)
+    out << "  damping_time: " << *r.after.damping_time << "   # s, msd.damping_time (stage 2; the material's: "
+        << tau0 << ")\n";
+  else
+    out << "material_damping_time: " << tau0 << "   # s, not fitted (no ring-down spec): the MSD keeps the material's\n";
+  out << "starting_parameters:\n  stiffness_scale: " << r.before.stiffness_scale << "\n  repulsion_factor: "
+      << r.before.repulsion_factor << "\n  volume_factor: " << r.before.volume_factor << "\n  damping_time: " << tau0
+      << "\n"
       << "volume_weight: " << r.volume_weight << "\n"
-      << "objective: {before: " << r.objective_before << ", after: " << r.objective_after << "}\n"
+      << "objective: {before: " << r.objective_before << ", after: " << r.objective_after << "}   # stage 1\n"
       << "optimiser: {method: Eigen LevenbergMarquardt (MINPACK lmder), status: \"" << r.optimiser_status
-      << "\", iterations: " << r.iterations << ", evaluations: " << r.evaluations << "}\n"
-      << "specs:\n";
-  for (const auto& s : r.specs)
+      << "\", iterations: " << r.iterations << ", evaluations: " << r.evaluations << "}\n";
+  if (r.damping_fitted)
+    out << "damping_stage: {objective_before: " << r.damping_objective_before
+        << ", objective_after: " << r.damping_objective_after << ", status: \"" << r.damping_status
+        << "\", iterations: " << r.damping_iterations << ", evaluations: " << r.damping_evaluations << "}\n";
+  out << "specs:   # errors before (the starting constants) and after (the calibrated set)\n";
+  for (const auto& s : r.specs) {
     out << "  - {name: " << s.spec << ", sha256: " << s.sha256 << ", series: " << s.load_series
         << ", rel_rms_before: " << s.rel_rms_before << ", rel_rms_after: " << s.rel_rms_after
         << ", volume_max_error_before: " << s.volume_max_error_before
-        << ", volume_max_error_after: " << s.volume_max_error_after << "}\n";
+        << ", volume_max_error_after: " << s.volume_max_error_after;
+    if (s.ring_down())
+      out << ", damping_ratio_fem: " << s.damping_ratio_fem << ", damping_ratio_before: " << s.damping_ratio_before
+          << ", damping_ratio_after: " << s.damping_ratio_after << ", frequency_fem: " << s.frequency_fem
+          << ", frequency_before: " << s.frequency_before << ", frequency_after: " << s.frequency_after;
+    out << "}\n";
+  }
   out << "reference: {solver: fem, version: \"" << r.fem_version << "\", git_revision: \"" << r.fem_git_revision
       << "\"}\ncreated: " << r.created << "\n";
 }
@@ -286,11 +422,13 @@ CalibrationParameters read_calibration(const std::string& path, std::string* mat
     c.stiffness_scale = p["stiffness_scale"].as<double>();
     c.repulsion_factor = p["repulsion_factor"].as<double>();
     c.volume_factor = p["volume_factor"].as<double>();
+    if (p["damping_time"]) c.damping_time = p["damping_time"].as<double>();
   } catch (const YAML::Exception& e) {
     throw msd::Error(path + ": parameters.stiffness_scale, repulsion_factor and volume_factor are required: " +
                      e.msg);
   }
-  if (!(c.stiffness_scale > 0.0) || c.repulsion_factor < 0.0 || c.volume_factor < 0.0)
+  if (!(c.stiffness_scale > 0.0) || c.repulsion_factor < 0.0 || c.volume_factor < 0.0 ||
+      (c.damping_time && !(*c.damping_time >= 0.0)))
     throw msd::Error(path + ": calibrated parameters out of range");
   return c;
 }
@@ -311,6 +449,7 @@ void apply_calibration(Spec& spec, const std::string& file, const std::string& w
   spec.msd->stiffness_scale = c.stiffness_scale;
   spec.msd->repulsion_factor = c.repulsion_factor;
   spec.msd->volume_factor = c.volume_factor;
+  spec.msd->damping_time = c.damping_time;
   spec.msd->calibration = file;
 }
 

@@ -113,7 +113,8 @@ Spec suite_variant(const Spec& spec, const std::string& variant, const std::stri
         (fs::absolute(calibration_dir) / (root["material"]["library"].as<std::string>() + ".yaml")).string();
     if (!fs::exists(file)) throw msd::Error(spec.path + ": no calibration " + file + " for its material");
     return spec_variant(spec, [&](YAML::Node& n) {
-      for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "calibration"}) n["msd"].remove(k);
+      for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time", "calibration"})
+        n["msd"].remove(k);
       n["msd"]["calibration"] = file;
     });
   }

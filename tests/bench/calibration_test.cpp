@@ -23,9 +23,9 @@ output: {interval: 0.02}
 bench::CalibrationResult result() {
   bench::CalibrationResult r;
   r.material = "non_muscular_tissue";
-  r.before = {1.0, 0.1, 1.0};
-  r.after = {0.8, 0.05, 7.5};
-  r.damping_time = 4.2e-3;
+  r.before = {1.0, 0.1, 1.0, std::nullopt};
+  r.after = {0.8, 0.05, 7.5, std::nullopt};
+  r.before.damping_time = 4.2e-3;
   r.objective_before = 0.7;
   r.objective_after = 0.1;
   r.optimiser_status = "converged (relative reduction)";
@@ -43,7 +43,7 @@ bench::CalibrationResult result() {
 }  // namespace
 
 TEST(Calibration, WithParametersSetsThePhysicalFactors) {
-  const bench::Spec s = bench::with_parameters(bench::parse_spec(kSpec, "s.yaml"), {2.0, 0.3, 4.0});
+  const bench::Spec s = bench::with_parameters(bench::parse_spec(kSpec, "s.yaml"), {2.0, 0.3, 4.0, std::nullopt});
   EXPECT_EQ(s.msd->constants, "physical");
   EXPECT_DOUBLE_EQ(s.msd->stiffness_scale, 2.0);
   EXPECT_DOUBLE_EQ(s.msd->repulsion_factor, 0.3);
@@ -104,4 +104,55 @@ TEST(Calibration, MisfitsAreClearErrors) {
                                  "c.yaml}\nloading: {type: uniaxial, path: [[0, 0], [1, 0.1]]}\n",
                                  "r.yaml"),
                msd::Error);
+}
+
+TEST(Calibration, AFittedDampingTimeRoundTripsAndReachesTheMsdOnly) {
+  testing_support::TempDir dir("cal");
+  bench::CalibrationResult r = result();
+  r.damping_fitted = true;
+  r.after.damping_time = 0.0123;
+  r.damping_status = "converged (relative error)";
+  r.damping_evaluations = 7;
+  bench::SpecError ring;
+  ring.spec = "calibrate_ringdown";
+  ring.sha256 = "cd";
+  ring.load_series = "damping_ratio";
+  ring.damping_ratio_fem = 0.08;
+  ring.damping_ratio_after = 0.079;
+  r.specs.push_back(ring);
+  bench::write_calibration(r, dir.file("c.yaml"));
+  const bench::CalibrationParameters p = bench::read_calibration(dir.file("c.yaml"));
+  ASSERT_TRUE(p.damping_time);
+  EXPECT_DOUBLE_EQ(*p.damping_time, 0.0123);
+  std::ifstream in(dir.file("c.yaml"));
+  std::stringstream ss;
+  ss << in.rdbuf();
+  for (const char* k : {"damping_stage:", "damping_ratio_fem: 0.08", "evaluations: 7"})
+    EXPECT_NE(ss.str().find(k), std::string::npos) << k;
+  bench::Spec s = bench::parse_spec(kSpec, "s.yaml");
+  bench::apply_calibration(s, dir.file("c.yaml"));
+  ASSERT_TRUE(s.msd->damping_time);
+  EXPECT_DOUBLE_EQ(*s.msd->damping_time, 0.0123);
+  // with_parameters carries it too, and leaves the material's (the FEM's) alone.
+  const bench::Spec w = bench::with_parameters(bench::parse_spec(kSpec, "s.yaml"), p);
+  EXPECT_DOUBLE_EQ(*w.msd->damping_time, 0.0123);
+  EXPECT_EQ(w.material.damping_time, bench::parse_spec(kSpec, "s.yaml").material.damping_time);
+}
+
+TEST(Calibration, WithoutADampingFitTheMaterialsDampingTimeStays) {
+  testing_support::TempDir dir("cal");
+  bench::write_calibration(result(), dir.file("c.yaml"));  // damping_fitted false
+  EXPECT_FALSE(bench::read_calibration(dir.file("c.yaml")).damping_time);
+  bench::Spec s = bench::parse_spec(kSpec, "s.yaml");
+  bench::apply_calibration(s, dir.file("c.yaml"));
+  EXPECT_FALSE(s.msd->damping_time);
+  // A negative fitted damping time is refused, naming the file.
+  std::ofstream(dir.file("bad.yaml")) << "material: non_muscular_tissue\nparameters: {stiffness_scale: 1, "
+                                         "repulsion_factor: 0, volume_factor: 0, damping_time: -0.1}\n";
+  try {
+    bench::read_calibration(dir.file("bad.yaml"));
+    FAIL();
+  } catch (const msd::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.yaml"), std::string::npos) << e.what();
+  }
 }
