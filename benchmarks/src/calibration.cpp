@@ -20,7 +20,6 @@
 #include <iomanip>
 #include <regex>
 #include <sstream>
-#include <tuple>
 
 namespace bench {
 
@@ -70,19 +69,6 @@ struct TargetError {
   double zeta = 0.0, frequency = 0.0;  // ring-down: the MSD's
 };
 
-// The MSD ring-down of a vibration spec: the free end after the release.
-RingDown msd_ring_down(const Spec& spec, const std::map<std::string, std::vector<double>>& s) {
-  std::vector<double> t, x;
-  const auto& tm = s.at("time");
-  const auto& tip = s.at("tip_displacement");
-  for (size_t i = 0; i < tm.size(); ++i)
-    if (tm[i] >= spec.loading.release - 1e-12) {
-      t.push_back(tm[i]);
-      x.push_back(tip[i]);
-    }
-  return analyse_ring_down(t, x);
-}
-
 // Residuals of one parameter set over `targets`, appended to r. Returns false
 // if an MSD run failed (or its ring-down could not be measured).
 bool residuals(const std::vector<const Target*>& targets, const CalibrationParameters& p, std::vector<double>& r,
@@ -100,7 +86,7 @@ bool residuals(const std::vector<const Target*>& targets, const CalibrationParam
     TargetError e;
     e.index = tg.index;
     if (tg.ring_down) {
-      const RingDown rd = msd_ring_down(tg.spec, s);
+      const RingDown rd = analyse_ring_down_after(tm, s.at("tip_displacement"), tg.spec.loading.release);
       if (!(rd.damping_ratio > 0.0) || rd.peaks < 2) return false;
       const double d = (rd.damping_ratio - tg.zeta) / tg.zeta;
       r.push_back(d);

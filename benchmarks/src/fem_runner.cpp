@@ -439,14 +439,7 @@ RunSummary run_fem(const Spec& spec, const std::string& out_path, const Progress
   s.wall_seconds = sum.wall_seconds;
   if (spec.loading.type == "cooks_membrane" && !tip.empty()) s.highlights.push_back({"tip_mm", 1e3 * tip.back()});
   if (spec.loading.type == "vibration") {
-    // The ring-down starts at the release.
-    std::vector<double> tt, xx;
-    for (size_t i = 0; i < times.size(); ++i)
-      if (times[i] >= spec.loading.release - 1e-12) {
-        tt.push_back(times[i]);
-        xx.push_back(tip[i]);
-      }
-    const RingDown rd = analyse_ring_down(tt, xx);
+    const RingDown rd = analyse_ring_down_after(times, tip, spec.loading.release);  // from the release
     s.highlights.push_back({"f1_Hz", rd.frequency});
     s.highlights.push_back({"zeta", rd.damping_ratio});
     if (writer) {

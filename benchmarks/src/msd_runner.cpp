@@ -357,13 +357,7 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
   s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (s.complete) s.steps = stats.steps;
   if (p.loading == "vibration") {
-    std::vector<double> tt, xx;  // the ring-down starts at the release
-    for (size_t i = 0; i < times.size(); ++i)
-      if (times[i] >= spec.loading.release - 1e-12) {
-        tt.push_back(times[i]);
-        xx.push_back(tip[i]);
-      }
-    const RingDown rd = analyse_ring_down(tt, xx);
+    const RingDown rd = analyse_ring_down_after(times, tip, spec.loading.release);  // from the release
     s.highlights = {{"f1_Hz", rd.frequency}, {"zeta", rd.damping_ratio}};
     out.set_metric("first_frequency", rd.frequency);
     out.set_metric("damping_ratio", rd.damping_ratio);

@@ -45,4 +45,14 @@ RingDown analyse_ring_down(const std::vector<double>& t, const std::vector<doubl
   return r;
 }
 
+RingDown analyse_ring_down_after(const std::vector<double>& time, const std::vector<double>& signal, double start) {
+  std::vector<double> t, x;
+  for (size_t i = 0; i < time.size(); ++i)
+    if (time[i] >= start - 1e-12) {
+      t.push_back(time[i]);
+      x.push_back(signal[i]);
+    }
+  return analyse_ring_down(t, x);
+}
+
 }  // namespace bench

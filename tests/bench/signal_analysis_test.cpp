@@ -61,3 +61,22 @@ TEST(RingDown, NoOscillationGivesZeros) {
   EXPECT_EQ(over.frequency, 0.0);
   EXPECT_EQ(over.damping_ratio, 0.0);
 }
+
+TEST(RingDown, AfterAStartItIgnoresWhatCameBefore) {
+  // A held preload (a constant), then the ring-down from t0 = 1 s.
+  std::vector<double> t, x, tt, xx;
+  damped(5.0, 0.05, 0.0, 3.0, 2000.0, t, x);
+  for (size_t i = 0; t[i] < 1.0; ++i) {
+    tt.push_back(t[i]);
+    xx.push_back(0.01);
+  }
+  for (size_t i = 0; i < t.size(); ++i) {
+    tt.push_back(1.0 + t[i]);
+    xx.push_back(x[i]);
+  }
+  const bench::RingDown after = bench::analyse_ring_down_after(tt, xx, 1.0);
+  const bench::RingDown alone = bench::analyse_ring_down(t, x);
+  EXPECT_NEAR(after.frequency, alone.frequency, 1e-9);
+  EXPECT_NEAR(after.damping_ratio, alone.damping_ratio, 1e-9);
+  EXPECT_EQ(after.peaks, alone.peaks);
+}

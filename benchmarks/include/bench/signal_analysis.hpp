@@ -18,4 +18,8 @@ struct RingDown {
 
 RingDown analyse_ring_down(const std::vector<double>& time, const std::vector<double>& signal);
 
+/// The same over the samples at and after `start` (s): a ring-down from its
+/// release, without the preload before it.
+RingDown analyse_ring_down_after(const std::vector<double>& time, const std::vector<double>& signal, double start);
+
 }  // namespace bench
