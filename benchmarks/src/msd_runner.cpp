@@ -61,7 +61,7 @@ msd::TissueMaterial make_material(const Spec& spec) {
   } else {
     m.mode = msd::ConstantsMode::Physical;
     m.youngs_modulus = spec.material.youngs_modulus.value_or(0.0);
-    m.damping_time = ms.damping_time ? *ms.damping_time : spec.material.damping_time.value_or(0.0);
+    m.damping_time = ms.damping_time.value_or(spec.material.damping_time.value_or(0.0));
     m.stiffness_scale = ms.stiffness_scale;
     m.repulsion_factor = ms.repulsion_factor;
     m.volume_factor = ms.volume_factor;
