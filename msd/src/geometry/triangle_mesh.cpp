@@ -1,6 +1,9 @@
 #include "msd/geometry/triangle_mesh.hpp"
 
+#include "msd/io/atomic_file.hpp"
+
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -143,6 +146,30 @@ void write_obj(const std::string& path, const TriangleMesh& mesh) {
         << '\n';
   for (const Tri& t : mesh.triangles) out << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
   if (!out) throw Error(path + ": write failed");
+}
+
+void write_obj(const std::string& path, const Points& positions, const std::vector<Tri>& triangles, int decimals) {
+  write_file_atomically(path, [&](std::ostream& out) {
+    char line[128];
+    for (int i = 0; i < positions.cols(); ++i) {
+      std::snprintf(line, sizeof line, "v %.*f %.*f %.*f\n", decimals, positions(0, i), decimals, positions(1, i),
+                    decimals, positions(2, i));
+      out << line;
+    }
+    for (const Tri& t : triangles) out << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+  });
+}
+
+Points vertex_normals(const TriangleMesh& mesh) {
+  Points n = Points::Zero(3, mesh.num_vertices());
+  for (const Tri& t : mesh.triangles) {
+    const Vec3 a = mesh.vertices.col(t[0]), b = mesh.vertices.col(t[1]), c = mesh.vertices.col(t[2]);
+    const Vec3 w = (b - a).cross(c - a);
+    for (int v : t) n.col(v) += w;
+  }
+  for (int i = 0; i < n.cols(); ++i)
+    if (n.col(i).norm() > 0.0) n.col(i).normalize();
+  return n;
 }
 
 void validate_closed_surface(const TriangleMesh& mesh, const std::string& name) {

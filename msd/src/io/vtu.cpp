@@ -1,5 +1,7 @@
 #include "msd/io/vtu.hpp"
 
+#include "msd/io/atomic_file.hpp"
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -9,7 +11,7 @@ namespace msd {
 
 namespace {
 
-void write_array(std::ofstream& out, const std::string& type, const std::string& name, int components,
+void write_array(std::ostream& out, const std::string& type, const std::string& name, int components,
                  const std::vector<double>& values) {
   out << "        <DataArray type=\"" << type << "\" Name=\"" << name << "\"";
   if (components > 1) out << " NumberOfComponents=\"" << components << "\"";
@@ -34,10 +36,7 @@ void write_vtu(const std::string& path, const VtuGrid& g) {
   for (const auto& [name, v] : g.point_data)
     if (static_cast<long>(v.size()) != n) throw Error(path + ": point array '" + name + "' has the wrong length");
 
-  const std::string tmp = path + ".partial";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw Error(path + ": cannot write");
+  write_file_atomically(path, [&](std::ostream& out) {
     out << std::setprecision(10);
     out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
         << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << g.cells.size() << "\">\n";
@@ -68,11 +67,7 @@ void write_vtu(const std::string& path, const VtuGrid& g) {
       out << "      </PointData>\n";
     }
     out << "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
-    if (!out) throw Error(path + ": write failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw Error(path + ": cannot move the finished file into place: " + ec.message());
+  });
 }
 
 }  // namespace msd

@@ -64,6 +64,15 @@ TriangleMesh read_surface(const std::string& path);
 /// Writes `mesh` as OBJ (vertices with 17 significant digits).
 void write_obj(const std::string& path, const TriangleMesh& mesh);
 
+/// Writes `triangles` over the vertices `positions` (3 x V, e.g. a deformed
+/// frame of a mesh) as OBJ, each coordinate with `decimals` digits after the
+/// point (6: micrometres), whole or not at all (msd/io/atomic_file.hpp).
+void write_obj(const std::string& path, const Points& positions, const std::vector<Tri>& triangles, int decimals);
+
+/// Area-weighted vertex normals (3 x V, unit length; zero for a vertex in no
+/// triangle): outward on a closed, outward-oriented surface.
+Points vertex_normals(const TriangleMesh& mesh);
+
 /// Checks that `mesh` bounds a solid: finite coordinates, valid indices, no
 /// degenerate triangle, every edge shared by exactly two triangles (closed and
 /// edge-manifold), every vertex fan a single disc (vertex-manifold), neighbouring
