@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Reruns the FEM verification cases and refinement studies whose figures are
-# recorded in benchmarks/README.md ("FEM reference"), printing the tables.
+# recorded in benchmarks/results/2026-11-22-fem-reference.md, printing the tables.
 # Usage: bash benchmarks/fem_verification.sh [OUT_DIR]   (after scripts/test.sh
 # or scripts/main.sh has built the project). The bonded-cylinder study takes
 # about 20 minutes on two cores.

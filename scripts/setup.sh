@@ -7,7 +7,7 @@ TB_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 
 TB_PACKAGES=(
   build-essential cmake pkg-config ccache git
-  libeigen3-dev libyaml-cpp-dev libcli11-dev
+  libeigen3-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   libhdf5-openmpi-dev
   libdeal.ii-dev libsundials-dev openmpi-bin libopenblas0-serial
   libgtest-dev libbenchmark-dev

@@ -7,17 +7,13 @@
 #include "bench/convergence.hpp"
 #include "bench/fem_runner.hpp"
 #include "bench/guard.hpp"
-#include "bench/leg_mesh.hpp"
-#include "bench/leg_scene.hpp"
 #include "bench/msd_runner.hpp"
-#include "bench/results_file.hpp"
-#include "bench/series_tools.hpp"
+#include "bench/shared_io.hpp"
 #include "bench/stability.hpp"
 #include "bench/suite.hpp"
 #include "bench/sweep.hpp"
 #include "fem/fem.hpp"
 #include "msd/forces/element_forces.hpp"
-#include "msd/geometry/leg_generator.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -46,7 +42,6 @@ bool root() { return fem::Session::rank() == 0; }
 
 // The default leg's grid spacing at the reference stature (m): chosen so the
 // cube count is close to the thesis' 959 (docs/leg-geometry.md).
-constexpr double kDefaultLegSpacing = 0.0245;
 
 void print_summary_header() {
   std::printf("%-28s %6s %5s %8s %8s %10s %10s %7s %7s %6s %7s %s\n", "spec", "tets", "nodes",
@@ -414,65 +409,6 @@ int cmd_converge(const ConvergeArgs& args) {
   std::printf("observed order %.3f; estimated RMS error of the finest level %.4g %s (%.3g %% of max |value|)\n",
               st.observed_order, st.finest_error, st.units.c_str(), 100.0 * st.finest_relative_error);
   std::printf("study: %s\n", json.c_str());
-  return 0;
-}
-
-int cmd_mesh(const MeshArgs& args) {
-  if (!root()) return 0;
-  const std::string scene = args.scene.empty() ? std::string(TISSUEBENCH_DATA_DIR) + "/leg/leg.yaml" : args.scene;
-  const bench::LegMeshSummary s = bench::mesh_leg_scene(scene, args.out);
-  std::printf("%s", bench::format_leg_mesh_summary(s).c_str());
-  std::printf("written: %s/mesh.vtu, bone_points.vtu, surfaces/*.vtu, summary.json\n", args.out.c_str());
-  return 0;
-}
-
-int cmd_leg(const LegArgs& args) {
-  if (!root()) return 0;
-  const std::string file =
-      args.scene.empty() ? std::string(TISSUEBENCH_DATA_DIR) + "/scenes/hamstrings.yaml" : args.scene;
-  bench::LegScene scene = bench::read_leg_scene(file);
-  if (args.duration > 0.0) scene.duration = args.duration;
-  if (args.obj_every >= 0) scene.obj_every = args.obj_every;
-  ProgressLine progress(scene.name + " (leg)", !args.quiet);
-  const auto runs = bench::run_leg_scene(scene, args.out, [&](double t, double end) { progress.update(t, end); });
-  progress.done();
-  int rc = 0;
-  for (const auto& r : runs) {
-    std::printf("%s", bench::format_leg_summary(r).c_str());
-    if (r.status != "complete") {
-      std::fprintf(stderr, "error: %s%s%s: %s\n", scene.name.c_str(), r.variant.empty() ? "" : " / ",
-                   r.variant.c_str(), r.failure.c_str());
-      rc = 3;
-    }
-  }
-  std::printf("written: %s/ (leg.h5, leg.csv, leg.xdmf, skin/frame_*.obj, summary.json)\n", args.out.c_str());
-  return rc;
-}
-
-int cmd_leg_geometry(const LegGeometryArgs& args) {
-  if (!root()) return 0;
-  const auto start = std::chrono::steady_clock::now();
-  msd::LegParameters p;
-  p.stature = args.stature;
-  p.mass = args.mass;
-  p.skin_cell = args.skin_cell;
-  const msd::LegGeometry leg = msd::make_leg(p);
-  const double spacing = args.spacing > 0.0 ? args.spacing : kDefaultLegSpacing * p.stature / p.dims.reference_stature;
-  const std::string out = args.out.empty() ? std::string(TISSUEBENCH_DATA_DIR) + "/leg" : args.out;
-  msd::write_leg(leg, p, spacing, out);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("leg: stature %.3f m, mass %.1f kg (girth scale %.3f); hip %.3f m, knee %.3f m, ankle %.3f m, foot %.3f m\n",
-              p.stature, p.mass, leg.girth_scale, leg.hip_height, leg.knee_height, leg.ankle_height, leg.foot_length);
-  const std::pair<const char*, const msd::TriangleMesh*> surfaces[] = {{"skin", &leg.skin},
-                                                                        {"upper_bone", &leg.upper_bone},
-                                                                        {"lower_bone", &leg.lower_bone},
-                                                                        {"front_muscle", &leg.front_muscle},
-                                                                        {"back_muscle", &leg.back_muscle}};
-  for (const auto& [name, m] : surfaces)
-    std::printf("  %-13s %6d triangles %6d vertices  %7.3f L\n", name, m->num_triangles(), m->num_vertices(),
-                1e3 * msd::enclosed_volume(*m));
-  std::printf("  tendons: %zu paths; grid spacing in the scene %.4f m; %.2f s\n", leg.tendons.size(), spacing, seconds);
-  std::printf("written: %s/{skin,upper_bone,lower_bone,front_muscle,back_muscle}.obj, leg.yaml\n", out.c_str());
   return 0;
 }
 

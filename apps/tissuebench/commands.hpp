@@ -75,31 +75,6 @@ struct CheckArgs {
 /// of what moved; --update rewrites the baseline and says what changed.
 int cmd_check(const CheckArgs& args);
 
-struct MeshArgs {
-  std::string scene, out = "mesh";  ///< scene "" = the shipped leg (msd/data/leg/leg.yaml)
-};
-/// Meshes a limb scene's surfaces (tissuebench mesh SCENE.yaml --out DIR).
-int cmd_mesh(const MeshArgs& args);
-
-struct LegArgs {
-  std::string scene, out = "leg";  ///< scene "" = msd/data/scenes/hamstrings.yaml
-  double duration = 0.0;           ///< > 0: run only this long (s)
-  int obj_every = -1;              ///< >= 0: overrides the scene's outputs.obj_every
-  bool quiet = false;
-};
-/// Runs a leg scene (tissuebench leg SCENE.yaml --out DIR). Exit 3 when the
-/// simulation blew up (its files keep what was written, marked failed).
-int cmd_leg(const LegArgs& args);
-
-struct LegGeometryArgs {
-  double stature = 1.756, mass = 85.5;  ///< m, kg (the ANSUR II male mean)
-  double spacing = 0.0;                ///< the scene's grid spacing (m); 0: the default scaled by stature
-  double skin_cell = 0.016;            ///< the skin's marching-tetrahedra cell (m)
-  std::string out;                     ///< "" = msd/data/leg (regenerates the shipped files)
-};
-/// Writes the parametric leg's surfaces and its mesh scene (tissuebench leg-geometry).
-int cmd_leg_geometry(const LegGeometryArgs& args);
-
 /// The specs of the default suite (the thesis' three uni-axial experiments).
 std::vector<std::string> default_suite();
 

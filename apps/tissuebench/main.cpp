@@ -1,8 +1,9 @@
 // tissuebench: the command-line program. Parses arguments and calls the
 // libraries; every error becomes one clear message and a non-zero exit.
 #include "commands.hpp"
+#include "leg_commands.hpp"
 
-#include "bench/results_file.hpp"
+#include "tbio/results_file.hpp"
 #include "fem/blas_tuning.hpp"
 #include "fem/fem.hpp"
 #include "msd/core/types.hpp"
@@ -16,7 +17,7 @@ int main(int argc, char** argv) {
   // MPI (for the FEM solver) first; every process parses the same arguments.
   fem::Session session(argc, argv);
   CLI::App cli{"tissuebench - the thesis' mass-spring-damper soft-tissue model and its validation harness"};
-  cli.set_version_flag("--version", bench::tissuebench_version() + " (" + bench::git_revision() + ")");
+  cli.set_version_flag("--version", tbio::tissuebench_version() + " (" + tbio::git_revision() + ")");
   cli.require_subcommand(1);
 
   app::RunArgs run;
@@ -52,41 +53,8 @@ int main(int argc, char** argv) {
   auto* inspect_cmd = cli.add_subcommand("inspect", "Mesh a specification and print its counts and constants");
   inspect_cmd->add_option("spec", inspect.spec, "Test specification (YAML)")->required()->check(CLI::ExistingFile);
 
-  app::MeshArgs mesh;
-  auto* mesh_cmd = cli.add_subcommand(
-      "mesh", "Mesh a limb from its surfaces (skin, bones, muscles as OBJ/STL/PLY): regions, erosion, bone points, "
-              "embedded surfaces; writes VTU files for ParaView and summary.json");
-  mesh_cmd->add_option("scene", mesh.scene,
-                       "Scene file (YAML; see benchmarks/include/bench/leg_mesh.hpp); default: the shipped leg, "
-                       "msd/data/leg/leg.yaml")
-      ->check(CLI::ExistingFile);
-  mesh_cmd->add_option("--out", mesh.out, "Output folder")->capture_default_str();
-
-  app::LegArgs leg;
-  auto* leg_cmd = cli.add_subcommand(
-      "leg", "Run a leg scene (thesis 6): knee, tendons, muscles, collisions, scripted control; writes leg.h5, "
-             "leg.xdmf (ParaView), skin OBJ frames and summary.json");
-  leg_cmd->add_option("scene", leg.scene,
-                      "Scene file (YAML; see benchmarks/include/bench/leg_scene.hpp); default: the hamstrings "
-                      "scene, msd/data/scenes/hamstrings.yaml")
-      ->check(CLI::ExistingFile);
-  leg_cmd->add_option("--out", leg.out, "Output folder")->capture_default_str();
-  leg_cmd->add_option("--duration", leg.duration, "Run only this many simulated seconds");
-  leg_cmd->add_option("--obj-every", leg.obj_every, "Write the skin as OBJ every n-th frame (0: none)");
-  leg_cmd->add_flag("--quiet", leg.quiet, "No progress line");
-
-  app::LegGeometryArgs leg_geometry;
-  auto* leg_geometry_cmd = cli.add_subcommand(
-      "leg-geometry", "Generate the parametric leg (skin, femur, lower bone, two muscles, tendon paths) from "
-                      "anthropometry scaled by stature and mass: OBJ surfaces and the mesh scene leg.yaml");
-  leg_geometry_cmd->add_option("--stature", leg_geometry.stature, "Stature (m), 1.2-2.3")->capture_default_str();
-  leg_geometry_cmd->add_option("--mass", leg_geometry.mass, "Body mass (kg), 30-200")->capture_default_str();
-  leg_geometry_cmd->add_option("--spacing", leg_geometry.spacing,
-                               "Grid spacing written into leg.yaml (m); default 0.0245 m scaled by stature");
-  leg_geometry_cmd->add_option("--skin-cell", leg_geometry.skin_cell,
-                               "Skin resolution: marching-tetrahedra cell (m); inner surfaces use half")
-      ->capture_default_str();
-  leg_geometry_cmd->add_option("--out", leg_geometry.out, "Output folder; default: msd/data/leg (the shipped files)");
+  app::LegCommands leg_commands;
+  app::add_leg_commands(cli, leg_commands);
 
   app::ConvergeArgs converge;
   auto* converge_cmd = cli.add_subcommand(
@@ -209,9 +177,7 @@ int main(int argc, char** argv) {
     if (*run_cmd) return app::cmd_run(run);
     if (*suite_cmd) return app::cmd_suite(suite);
     if (*inspect_cmd) return app::cmd_inspect(inspect);
-    if (*mesh_cmd) return app::cmd_mesh(mesh);
-    if (*leg_cmd) return app::cmd_leg(leg);
-    if (*leg_geometry_cmd) return app::cmd_leg_geometry(leg_geometry);
+    if (const auto rc = app::run_leg_command(leg_commands, fem::Session::rank() == 0)) return *rc;
     if (*converge_cmd) return app::cmd_converge(converge);
     if (*compare_cmd) return app::cmd_compare(compare);
     if (*calibrate_cmd) return app::cmd_calibrate(calibrate);

@@ -5,7 +5,7 @@
 // cylinder tested against the skin nodes in its box or against every skin
 // node (the rod held clear of the leg, so what differs is the testing). The knee is held bent at 95 degrees (scripted), where the crease
 // touches, so the contact tests do their real work. The ratios in
-// benchmarks/README.md ("collisions only where a scene says") are of these
+// benchmarks/results/2026-12-01-kernels-and-leg.md ("collisions only where a scene says") are of these
 // figures, measured in one run.
 #include "msd/geometry/leg_generator.hpp"
 #include "msd/mesh/limb_mesher.hpp"

@@ -4,10 +4,7 @@
 
 #include "bench/fem_runner.hpp"
 #include "bench/msd_runner.hpp"
-#include "bench/results_file.hpp"
-#include "bench/series_tools.hpp"
-#include "bench/signal_analysis.hpp"
-#include "bench/sha256.hpp"
+#include "bench/shared_io.hpp"
 
 #include <unsupported/Eigen/NonLinearOptimization>
 #include <yaml-cpp/yaml.h>

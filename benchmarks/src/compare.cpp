@@ -1,8 +1,7 @@
 #include "bench/compare.hpp"
 
-#include "bench/series_tools.hpp"
+#include "bench/shared_io.hpp"
 
-#include "bench/results_file.hpp"
 #include "msd/core/types.hpp"
 
 #include <algorithm>

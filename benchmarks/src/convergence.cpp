@@ -1,7 +1,7 @@
 #include "bench/convergence.hpp"
 
 #include "bench/fem_runner.hpp"
-#include "bench/results_file.hpp"
+#include "bench/shared_io.hpp"
 #include "fem/fem.hpp"
 
 #include <cmath>

@@ -1,7 +1,6 @@
 #include "bench/guard.hpp"
-#include "bench/yaml_fields.hpp"
+#include "bench/shared_io.hpp"
 
-#include "bench/series_tools.hpp"
 #include "msd/core/types.hpp"
 
 #include <yaml-cpp/yaml.h>

@@ -1,7 +1,6 @@
 #include "bench/msd_runner.hpp"
 
-#include "bench/results_file.hpp"
-#include "bench/signal_analysis.hpp"
+#include "bench/shared_io.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -2,7 +2,7 @@
 
 #include "bench/calibration.hpp"
 
-#include "bench/yaml_fields.hpp"
+#include "bench/shared_io.hpp"
 #include "msd/core/types.hpp"
 
 #include <cmath>

@@ -3,7 +3,7 @@
 #include "bench/compare.hpp"
 
 #include "bench/msd_runner.hpp"
-#include "bench/series_tools.hpp"
+#include "bench/shared_io.hpp"
 #include "bench/sweep.hpp"
 #include "msd/forces/element_forces.hpp"
 

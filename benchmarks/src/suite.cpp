@@ -6,12 +6,9 @@
 #include "bench/convergence.hpp"
 #include "bench/fem_runner.hpp"
 #include "bench/msd_runner.hpp"
-#include "bench/results_file.hpp"
-#include "bench/series_tools.hpp"
-#include "bench/sha256.hpp"
+#include "bench/shared_io.hpp"
 #include "bench/stability.hpp"
 #include "bench/sweep.hpp"
-#include "bench/yaml_fields.hpp"
 #include "fem/fem.hpp"
 
 #include <Eigen/Core>

@@ -2,8 +2,7 @@
 
 #include "bench/compare.hpp"
 #include "bench/fem_runner.hpp"
-#include "bench/results_file.hpp"
-#include "bench/series_tools.hpp"
+#include "bench/shared_io.hpp"
 #include "fem/fem.hpp"
 #include "msd/integrate/step.hpp"
 

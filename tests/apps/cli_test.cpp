@@ -1,6 +1,6 @@
 // The tissuebench program from the outside: help, exit codes, messages, and
 // that bad input leaves nothing behind.
-#include "bench/results_file.hpp"
+#include "bench/shared_io.hpp"
 #include "msd/geometry/triangle_mesh.hpp"
 #include "test_support.hpp"
 

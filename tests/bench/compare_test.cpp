@@ -4,7 +4,7 @@
 // the refusals (wrong solver, incomplete run, different tests).
 #include "bench/compare.hpp"
 
-#include "bench/results_file.hpp"
+#include "bench/shared_io.hpp"
 #include "msd/core/types.hpp"
 #include "test_support.hpp"
 

@@ -7,7 +7,7 @@
 #include "bench/closed_form.hpp"
 #include "bench/convergence.hpp"
 #include "bench/fem_runner.hpp"
-#include "bench/results_file.hpp"
+#include "bench/shared_io.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 #include "bench/msd_runner.hpp"
 
-#include "bench/results_file.hpp"
+#include "bench/shared_io.hpp"
 #include "msd/core/types.hpp"
 #include "test_support.hpp"
 

@@ -1,7 +1,7 @@
 // The thesis' three uni-axial experiments (5.2.1-5.2.5, figures 5.5, 5.11, 5.15)
 // run from their shipped specs; each behaviour the thesis reports is a test.
 #include "bench/msd_runner.hpp"
-#include "bench/results_file.hpp"
+#include "bench/shared_io.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "bench/cvode_integrator.hpp"
-#include "bench/results_file.hpp"
+#include "bench/shared_io.hpp"
 #include "bench/spec.hpp"
 #include "msd/experiments/indentation.hpp"
 #include "msd/experiments/shear.hpp"

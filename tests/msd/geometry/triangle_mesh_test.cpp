@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 
 using msd::TriangleMesh;
@@ -116,6 +117,41 @@ TEST(TriangleMesh, ObjRoundTrip) {
   ASSERT_EQ(r.num_triangles(), c.num_triangles());
   EXPECT_EQ((r.vertices - c.vertices).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ(r.triangles, c.triangles);
+}
+
+TEST(TriangleMesh, ObjOfADeformedFrameHasTheGivenDecimalsAndTheMeshsFaces) {
+  testing_support::TempDir dir("obj");
+  const TriangleMesh c = msd::make_cylinder(0.05, 0.15, 16);
+  const msd::Points moved = c.vertices.colwise() + msd::Vec3(1.0 / 3.0, 0.0, -2.0);
+  msd::write_obj(dir.file("f.obj"), moved, c.triangles, 6);
+  std::ifstream in(dir.file("f.obj"));
+  std::string first;
+  std::getline(in, first);
+  char expected[96];
+  std::snprintf(expected, sizeof expected, "v %.6f %.6f %.6f", moved(0, 0), moved(1, 0), moved(2, 0));
+  EXPECT_EQ(first, expected);
+  const TriangleMesh r = msd::read_obj(dir.file("f.obj"));
+  EXPECT_EQ(r.triangles, c.triangles);
+  EXPECT_LT((r.vertices - moved).cwiseAbs().maxCoeff(), 5e-7);
+}
+
+TEST(TriangleMesh, VertexNormalsAreUnitAndOutward) {
+  const TriangleMesh b = msd::make_box(msd::Vec3(-1, -1, -1), msd::Vec3(1, 1, 1));
+  const msd::Points n = msd::vertex_normals(b);
+  ASSERT_EQ(n.cols(), b.num_vertices());
+  for (int i = 0; i < n.cols(); ++i) {
+    EXPECT_NEAR(n.col(i).norm(), 1.0, 1e-12);
+    EXPECT_GT(n.col(i).dot(b.vertices.col(i)), 0.0);  // the box is centred at the origin: outward = away from it
+  }
+  // On the cylinder's side the normals point away from the axis.
+  const TriangleMesh c = msd::make_cylinder(0.05, 0.15, 16);
+  const msd::Points m = msd::vertex_normals(c);
+  for (int i = 0; i < c.num_vertices(); ++i) {
+    const msd::Vec3 radial(c.vertices(0, i), c.vertices(1, i), 0.0);
+    if (radial.norm() > 1e-9) {
+      EXPECT_GT(m.col(i).dot(radial), 0.0);
+    }
+  }
 }
 
 TEST(TriangleMesh, ObjQuadsSlashesAndNegativeIndices) {

@@ -1,0 +1,53 @@
+// The leg's subcommands (mesh, leg, leg-geometry): the part of the command
+// line that needs only the leg layer, shared by the full program and the
+// leg-only build (-DTISSUEBENCH_WITH_FEM=OFF). Exit codes as commands.hpp.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+
+namespace app {
+
+struct MeshArgs {
+  std::string scene, out = "mesh";  ///< scene "" = the shipped leg (msd/data/leg/leg.yaml)
+};
+/// Meshes a limb scene's surfaces (tissuebench mesh SCENE.yaml --out DIR).
+int cmd_mesh(const MeshArgs& args);
+
+struct LegArgs {
+  std::string scene, out = "leg";  ///< scene "" = msd/data/scenes/hamstrings.yaml
+  double duration = 0.0;           ///< > 0: run only this long (s)
+  int obj_every = -1;              ///< >= 0: overrides the scene's outputs.obj_every
+  bool quiet = false;
+};
+/// Runs a leg scene (tissuebench leg SCENE.yaml --out DIR). Exit 3 when the
+/// simulation blew up (its files keep what was written, marked failed).
+int cmd_leg(const LegArgs& args);
+
+struct LegGeometryArgs {
+  double stature = 1.756, mass = 85.5;  ///< m, kg (the ANSUR II male mean)
+  double spacing = 0.0;                ///< the scene's grid spacing (m); 0: the default scaled by stature
+  double skin_cell = 0.016;            ///< the skin's marching-tetrahedra cell (m)
+  std::string out;                     ///< "" = msd/data/leg (regenerates the shipped files)
+};
+/// Writes the parametric leg's surfaces and its mesh scene (tissuebench leg-geometry).
+int cmd_leg_geometry(const LegGeometryArgs& args);
+
+/// The leg's subcommands as registered on a CLI::App, with their arguments.
+struct LegCommands {
+  MeshArgs mesh;
+  LegArgs leg;
+  LegGeometryArgs geometry;
+  CLI::App* mesh_cmd = nullptr;
+  CLI::App* leg_cmd = nullptr;
+  CLI::App* geometry_cmd = nullptr;
+};
+void add_leg_commands(CLI::App& cli, LegCommands& c);
+
+/// Runs the leg subcommand that was given (nothing, exit 0, on a process other
+/// than the first under mpirun); nullopt when none of them was.
+std::optional<int> run_leg_command(const LegCommands& c, bool root_process);
+
+}  // namespace app

@@ -1,0 +1,22 @@
+#include "tbio/json.hpp"
+
+#include "msd/io/atomic_file.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+namespace tbio {
+
+void write_json_file(const std::string& path, const Json& value) {
+  msd::write_file_atomically(path, [&](std::ostream& out) { out << value.dump(2) << '\n'; });
+}
+
+Json rounded(double value, int digits) {
+  if (!std::isfinite(value)) return nullptr;
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*g", digits, value);
+  return std::strtod(text, nullptr);
+}
+
+}  // namespace tbio

@@ -1,0 +1,37 @@
+// The summary of a leg run: scalars from the recorded series (extremes from
+// the scene's `analysis.from` on), the pendulum (drop) test's metrics and the
+// flesh's wobble as a ring-down.
+#pragma once
+
+#include "leg/scene.hpp"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace leg {
+
+/// Recorded series by column name, all of one length.
+using Recorded = std::map<std::string, std::vector<double>>;
+
+/// Peaks of the knee angle (deg) about its final rest value after `release`
+/// (the pendulum test's swing): rest and start angles, first swing, successive
+/// peak ratio, swing period, oscillations, frequency and damping ratio. Adds
+/// nothing when fewer than five samples follow the release.
+void drop_metrics(const std::vector<double>& t, const std::vector<double>& angle_deg, double release,
+                  std::map<std::string, double>& out);
+
+/// The probe's mean displacement (x, y, z) after `after`, on its direction of
+/// largest variance, less its straight-line drift, as a ring-down: frequency,
+/// damping ratio, amplitude and peaks. Adds nothing with fewer than 8 samples.
+void wobble_metrics(const std::vector<double>& t, const std::vector<double>& x, const std::vector<double>& y,
+                    const std::vector<double>& z, double after, std::map<std::string, double>& out);
+
+/// The summary's scalars from `recorded` (times in recorded["time"]): the
+/// samples before scene.analysis_from are dropped first (a scripted lead-in
+/// is not part of the result).
+std::map<std::string, double> summarise(Recorded recorded, const LegScene& scene,
+                                        const std::vector<std::string>& tendon_names,
+                                        const std::vector<std::string>& obstacle_names, long joint_space_tets);
+
+}  // namespace leg

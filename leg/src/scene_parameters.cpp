@@ -1,0 +1,165 @@
+// Every field of a leg scene, declared once: path, unit, default, range, doc.
+// The scene reader (scene.cpp) reads through these; docs/leg-scenes.md's field
+// table is generated from them (tests/leg/scene_parameters_test.cpp holds it
+// to them). Defaults that the model owns come from msd::LegModelOptions and
+// msd::TissueMaterial, not restated here.
+#include "leg/scene.hpp"
+
+#include "msd/material/tissue_material.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace leg {
+
+namespace {
+
+using tbio::Kind;
+using tbio::Parameter;
+using tbio::Range;
+
+std::string vec_text(const msd::Vec3& v) {
+  std::ostringstream s;
+  s << "[" << v.x() << ", " << v.y() << ", " << v.z() << "]";
+  return s.str();
+}
+
+std::string number_text(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+std::string degrees_text(double lo, double hi) {
+  return "[" + number_text(lo * 180.0 / M_PI) + ", " + number_text(hi * 180.0 / M_PI) + "]";
+}
+
+Parameter number(std::string path, std::string unit, std::optional<double> fallback, Range range, std::string doc) {
+  Parameter p;
+  p.path = std::move(path);
+  p.unit = std::move(unit);
+  p.fallback = fallback;
+  p.range = range;
+  p.doc = std::move(doc);
+  return p;
+}
+
+// An optional number without a default: absent means the feature is off.
+Parameter optional_number(std::string path, std::string unit, Range range, std::string doc) {
+  Parameter p = number(std::move(path), std::move(unit), std::nullopt, range, std::move(doc));
+  p.default_text = "none";
+  return p;
+}
+
+Parameter vector3(std::string path, std::string unit, std::optional<msd::Vec3> fallback, std::string doc) {
+  Parameter p;
+  p.path = std::move(path);
+  p.kind = Kind::Vector3;
+  p.unit = std::move(unit);
+  if (fallback) {
+    p.fallback3 = *fallback;
+    p.default_text = vec_text(*fallback);
+  }
+  p.doc = std::move(doc);
+  return p;
+}
+
+Parameter other(std::string path, Kind kind, std::string unit, std::string default_text, std::string doc) {
+  Parameter p;
+  p.path = std::move(path);
+  p.kind = kind;
+  p.unit = std::move(unit);
+  p.default_text = std::move(default_text);
+  p.doc = std::move(doc);
+  return p;
+}
+
+std::vector<Parameter> declare() {
+  const msd::LegModelOptions model;
+  const msd::TissueMaterial material;
+  const Range any = Range::any(), positive = Range::positive(), non_negative = Range::non_negative();
+  std::vector<Parameter> p = {
+      other("name", Kind::Text, "", "the file's stem", "the scene's name"),
+      other("description", Kind::Text, "", "empty", "one line on what the scene shows"),
+      other("geometry", Kind::Text, "", "msd/data/leg/leg.yaml", "a mesh scene (`tissuebench mesh`), relative to this file"),
+      [] {
+        Parameter b = other("mesh_pull", Kind::Flag, "", "", "apply the geometry's pull areas (thesis 4.6)");
+        b.fallback = 1.0;
+        return b;
+      }(),
+      number("duration", "s", std::nullopt, positive, "simulated time"),
+      number("dt", "s", std::nullopt, positive, "time step"),
+      number("output_interval", "s", 0.04, positive, "time between recorded frames (the thesis' 1/25 s); a whole number of steps"),
+      vector3("gravity", "m/s^2", model.gravity, "in the leg's frame (z up the leg, x forward)"),
+      other("terms", Kind::List, "", "all", "force terms: springs, dampers, repulsion, volume, gravity"),
+      number("nonlinear_threshold", "1", model.nonlinear_threshold, Range::closed(0, 1), "thesis 5.8: the non-linear element forces act below this fraction of rest"),
+      number("materials.*.density", "kg/m^3", std::nullopt, positive, "of `passive` and `muscle` tissue"),
+      number("materials.*.youngs_modulus", "Pa", std::nullopt, positive, "Young's modulus"),
+      number("materials.*.damping_time", "s", 0.0, non_negative, "k_d = damping_time k_s"),
+      number("materials.*.stiffness_scale", "1", 1.0, any, "calibration factor on k_s, k_r, k_v"),
+      number("materials.*.repulsion_factor", "1", 0.5, non_negative, "k_r relative to the reference stiffness"),
+      number("materials.*.volume_factor", "1", 1.6, non_negative, "k_v relative to the reference stiffness"),
+      number("materials.*.repulsion_floor", "1", material.repulsion_floor, any, "tangent continuation of the repulsion below floor x0"),
+      vector3("knee.centre", "m", std::nullopt, "the hinge's centre"),
+      vector3("knee.axis", "1", msd::Vec3::UnitY(), "hinge axis; positive rotation = flexion"),
+      other("knee.range_deg", Kind::List, "deg", degrees_text(model.min_flexion, model.max_flexion), "[min, max]: the hard stops"),
+      number("knee.initial_angle_deg", "deg", 0.0, any, "within range_deg"),
+      number("knee.initial_velocity_deg", "deg/s", 0.0, any, "initial flexion rate"),
+      other("knee.angle_deg", Kind::List, "deg", "none", "kinematic override: [t, deg] keyframes, linear"),
+      optional_number("knee.release", "s", non_negative, "the override ends here and the knee moves dynamically"),
+      other("knee.torque", Kind::List, "N m", "none", "added joint torque: [t, N m] keyframes"),
+      number("knee.damping", "N m s/rad", model.joint_damping, non_negative, "the knee's passive structures, viscous"),
+      number("knee.limit_stiffness", "N m/rad", model.limit_stiffness, non_negative, "elastic end-range torque beyond passive_range_deg"),
+      other("knee.passive_range_deg", Kind::List, "deg", "range_deg", "[lo, hi]: where the end-range torque starts"),
+      number("knee.joint_space_radius", "m", 0.0, non_negative, "also leave out tets squeezed between the bones"),
+      number("tendons.modulus", "Pa", model.tendon_modulus, positive, "every strand's modulus"),
+      other("tendons.moduli", Kind::List, "Pa", "none", "per-tendon overrides, by tendon name"),
+      number("tendons.strand_area", "m^2", model.strand_area, positive, "cross-section per strand"),
+      [] {
+        Parameter c = other("tendons.insertions", Kind::Choice, "", "path", "bone ends at the paths' last points, or at the bone node the route reached (the thesis)");
+        c.choices = {"path", "nodes"};
+        return c;
+      }(),
+      optional_number("tendons.engage_at", "s", non_negative, "slack until then; then natural length = the path's length"),
+      number("tendons.pretension.fraction", "1", std::nullopt, Range::closed_open(0, 1), "L0 -> (1 - fraction) L0"),
+      number("tendons.pretension.start", "s", 0.0, non_negative, "when the pre-tension ramp starts"),
+      number("tendons.pretension.duration", "s", 0.0, non_negative, "the ramp's length (0: a step)"),
+      number("muscles.max_stress", "Pa", model.max_muscle_stress, positive, "maximum isometric stress"),
+      other("muscles.force_length_zero", Kind::Number, "1", number_text(model.force_length.zero_at), "lambda_0 of the force-length relation in [0, 1); `none`: the thesis' constant force"),
+      number("muscles.unit_angle_deg", "deg", model.unit_angle_deg, Range::open(0, 90), "the contractile units' angle tolerance"),
+      vector3("muscles.front_line", "1", model.front_line, "the front muscle's line of action"),
+      vector3("muscles.back_line", "1", model.back_line, "the back muscle's line of action"),
+      other("muscles.script", Kind::Text, "", "none", "activation script (thesis 5.7 format; FRONT_MUSCLE, BACK_MUSCLE)"),
+      number("muscles.activation.front", "1", 0.0, Range::closed(0, 1), "constant activation (no script)"),
+      number("muscles.activation.back", "1", 0.0, Range::closed(0, 1), "constant activation (no script)"),
+      other("contact.knee", Kind::List, "m", "none", "{lo, hi}: skin against skin behind the knee in this box"),
+      other("contact.obstacles", Kind::List, "", "none", "rigid objects: {name, shape: cylinder or plane, point, axis, radius, normal, response, box, motion}"),
+      number("contact.obstacles[].radius", "m", std::nullopt, positive, "a cylinder's radius"),
+      number("analysis.from", "s", 0.0, non_negative, "the summary's extremes from here on"),
+      other("analysis.bulge", Kind::List, "m", "none", "skin areas {name, lo, hi} whose bulge is reported"),
+      number("analysis.drop.release", "s", 0.0, non_negative, "pendulum metrics of the knee angle after this"),
+      other("analysis.wobble.probe", Kind::List, "m", "none", "{lo, hi}: the flesh whose wobble is measured"),
+      number("analysis.wobble.after", "s", 0.0, non_negative, "the wobble's ring-down from here on"),
+      other("variants", Kind::List, "", "none", "runs differing in constant activation: {name, activation: {front, back}}"),
+  };
+  Parameter obj = number("outputs.obj_every", "1", 1.0, non_negative, "an OBJ of the skin every n-th frame (0: none)");
+  obj.kind = Kind::Integer;
+  p.push_back(obj);
+  return p;
+}
+
+}  // namespace
+
+const std::vector<tbio::Parameter>& leg_scene_parameters() {
+  static const std::vector<tbio::Parameter> all = declare();
+  return all;
+}
+
+const tbio::Parameter& leg_scene_parameter(const std::string& path) {
+  for (const tbio::Parameter& p : leg_scene_parameters())
+    if (p.path == path) return p;
+  throw std::logic_error("leg scene parameter '" + path + "' is not declared");
+}
+
+}  // namespace leg

@@ -1,0 +1,199 @@
+// The leg scene runner (leg/scene.hpp, leg/run.hpp): the scene file's
+// checks, and what a short run writes - HDF5 series and fields, XDMF that
+// points at datasets which exist, OBJ frames, the summary - and what a blown-up
+// run leaves behind.
+#include "leg/run.hpp"
+#include "leg/scene.hpp"
+#include "tbio/results_file.hpp"
+
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string scenes() { return std::string(TISSUEBENCH_DATA_DIR) + "/scenes/"; }
+
+std::string read(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A scene file written next to the shipped scenes' folder layout (so its
+// relative paths resolve) from a shipped one with `edit` applied.
+std::string variant_of(const std::string& name, const std::string& from, const std::string& to,
+                       const std::string& out) {
+  std::string text = read(scenes() + name + ".yaml");
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  fs::create_directories(fs::path(out).parent_path());
+  // Relative paths (scripts) are resolved against the scene's folder.
+  text = std::regex_replace(text, std::regex("\\.\\./scripts/"), std::string(TISSUEBENCH_DATA_DIR) + "/scripts/");
+  std::ofstream(out) << text;
+  return out;
+}
+
+std::string error_of(const std::string& file) {
+  try {
+    leg::read_leg_scene(file);
+  } catch (const msd::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::vector<hsize_t> dims(hid_t file, const std::string& name) {
+  const hid_t d = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  if (d < 0) return {};
+  const hid_t s = H5Dget_space(d);
+  std::vector<hsize_t> out(static_cast<size_t>(H5Sget_simple_extent_ndims(s)));
+  H5Sget_simple_extent_dims(s, out.data(), nullptr);
+  H5Sclose(s);
+  H5Dclose(d);
+  return out;
+}
+
+}  // namespace
+
+TEST(LegScene, TheNineShippedScenesRead) {
+  for (const char* name : {"gravity", "pretension", "external_object", "hamstrings", "quadriceps", "co_contraction",
+                           "obstacle", "drop", "wobble"}) {
+    SCOPED_TRACE(name);
+    const leg::LegScene s = leg::read_leg_scene(scenes() + name + ".yaml");
+    EXPECT_EQ(s.name, name);
+    EXPECT_GT(s.duration, 0.0);
+    EXPECT_NEAR(s.output_interval, 0.04, 0.037);  // the thesis' 1/25 s (wobble: 250 Hz)
+  }
+  const leg::LegScene h = leg::read_leg_scene(scenes() + "hamstrings.yaml");
+  ASSERT_TRUE(h.script.has_value());
+  EXPECT_DOUBLE_EQ(h.script->activation("BACK_MUSCLE", 3.0), 0.85);  // the thesis' script
+  const leg::LegScene e = leg::read_leg_scene(scenes() + "external_object.yaml");
+  ASSERT_EQ(e.model.obstacles.size(), 1u);
+  EXPECT_EQ(e.model.obstacles[0].object.shape, msd::ObstacleShape::Cylinder);
+  EXPECT_TRUE(e.model.knee_contact_box.has_value());
+  const leg::LegScene w = leg::read_leg_scene(scenes() + "wobble.yaml");
+  EXPECT_EQ(w.variants.size(), 2u);
+}
+
+TEST(LegScene, BadScenesAreRefusedNamingTheFileTheLineAndTheField) {
+  const std::string dir = (fs::path(TB_TEST_OUTPUT_DIR) / "leg_scene_test").string();
+  // An unknown field.
+  std::string f = variant_of("gravity", "duration: 4.0", "duration: 4.0\nspeed: fast", dir + "/unknown.yaml");
+  std::string e = error_of(f);
+  EXPECT_NE(e.find("unknown.yaml:"), std::string::npos) << e;
+  EXPECT_NE(e.find("speed"), std::string::npos) << e;
+  // An output interval that is no whole number of steps.
+  f = variant_of("gravity", "output_interval: 0.04", "output_interval: 0.0401", dir + "/interval.yaml");
+  e = error_of(f);
+  EXPECT_NE(e.find("output_interval"), std::string::npos) << e;
+  // An unknown obstacle shape.
+  f = variant_of("external_object", "shape: cylinder", "shape: cone", dir + "/shape.yaml");
+  e = error_of(f);
+  EXPECT_NE(e.find("'cone' is not one of: cylinder, plane"), std::string::npos) << e;
+  // An activation out of range in a variant.
+  f = variant_of("wobble", "activation: {front: 0.5", "activation: {front: 1.5", dir + "/activation.yaml");
+  e = error_of(f);
+  EXPECT_NE(e.find("variants[1]"), std::string::npos) << e;
+  // A scripted knee angle outside the flexion range.
+  f = variant_of("drop", "angle_deg: [[0, 0]]", "angle_deg: [[0, 170]]", dir + "/range.yaml");
+  e = error_of(f);
+  EXPECT_NE(e.find("knee.angle_deg"), std::string::npos) << e;
+  // A script with an error: its own file and line.
+  const std::string script = dir + "/bad_script.txt";
+  std::ofstream(script) << "% a comment\n0.0 BACK_MUSCLE 0.2 0.0\n1.0 CALF 0.5 1.0\n";
+  f = variant_of("hamstrings", "../scripts/hamstrings.txt", script,
+                 dir + "/script.yaml");
+  e = error_of(f);
+  EXPECT_NE(e.find("bad_script.txt:3"), std::string::npos) << e;
+  // A missing file.
+  EXPECT_NE(error_of(dir + "/none.yaml").find("none.yaml"), std::string::npos);
+}
+
+TEST(LegScene, AShortRunWritesSeriesFieldsXdmfObjFramesAndTheSummary) {
+  // Pre-tension's first 0.2 s: 6 frames at 1/25 s (0, 0.04, ... 0.2).
+  leg::LegScene s = leg::read_leg_scene(scenes() + "pretension.yaml");
+  s.duration = 0.2;
+  s.obj_every = 1;
+  const std::string dir = (fs::path(TB_TEST_OUTPUT_DIR) / "leg_scene_test" / "short").string();
+  fs::remove_all(dir);
+  const auto runs = leg::run_leg_scene(s, dir);
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].status, "complete");
+  EXPECT_EQ(runs[0].frames, 6);
+  EXPECT_EQ(runs[0].steps, 1000);
+  // HDF5: complete, every series one row per frame.
+  const tbio::Results r = tbio::read_results(dir + "/leg.h5");
+  EXPECT_EQ(r.status(), "complete");
+  for (const char* name : {"time", "knee_angle", "knee_velocity", "joint_reaction_z", "tension_back_lower",
+                           "volume_ratio_back_muscle", "knee_contact_area", "kinetic_energy", "elastic_energy"}) {
+    ASSERT_TRUE(r.series.count(name)) << name;
+    EXPECT_EQ(r.series.at(name).size(), 6u) << name;
+  }
+  EXPECT_NEAR(r.series.at("time").back(), 0.2, 1e-12);
+  EXPECT_EQ(r.units.at("knee_angle"), "deg");
+  // The pre-tension ramp (0.1-0.6 s) has begun: tension, and elastic energy in the strands.
+  EXPECT_GT(r.series.at("tension_front_lower").back(), 0.0);
+  EXPECT_GT(r.series.at("elastic_energy").back(), r.series.at("elastic_energy").front());
+  // Fields: the nodes and the embedded skin, one frame each time.
+  ASSERT_TRUE(r.point_sets.count("nodes"));
+  ASSERT_TRUE(r.point_sets.count("skin"));
+  EXPECT_EQ(r.point_sets.at("skin").second, 6);
+  // XDMF: every dataset it names exists in leg.h5 with the dimensions it declares.
+  const std::string xdmf = read(dir + "/leg.xdmf");
+  const hid_t file = H5Fopen((dir + "/leg.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  const std::regex item("<DataItem Dimensions=\"([0-9 ]+)\"[^>]*Format=\"HDF\">leg\\.h5:([^<]+)</DataItem>");
+  int items = 0;
+  for (auto it = std::sregex_iterator(xdmf.begin(), xdmf.end(), item); it != std::sregex_iterator(); ++it) {
+    std::vector<hsize_t> declared;
+    std::istringstream in((*it)[1].str());
+    for (hsize_t d; in >> d;) declared.push_back(d);
+    EXPECT_EQ(dims(file, (*it)[2].str()), declared) << (*it)[2].str();
+    ++items;
+  }
+  H5Fclose(file);
+  EXPECT_EQ(items, 2 * 6 * 3);  // two grids, six frames, three HDF items each
+  EXPECT_NE(xdmf.find("<Time Value=\"0.2\"/>"), std::string::npos);
+  // OBJ frames: six, each the whole skin.
+  int objs = 0;
+  for (const auto& e : fs::directory_iterator(dir + "/skin")) objs += e.path().extension() == ".obj";
+  EXPECT_EQ(objs, 6);
+  const std::string obj = read(dir + "/skin/frame_0005.obj");
+  EXPECT_EQ(std::count(obj.begin(), obj.end(), 'f'), r.point_sets.at("skin").first > 0 ? 15744 : 0);
+  // The summary, last.
+  const std::string summary = read(dir + "/summary.json");
+  EXPECT_NE(summary.find("\"status\": \"complete\""), std::string::npos);
+  EXPECT_NE(summary.find("\"knee_angle_trajectory_deg\""), std::string::npos);
+  EXPECT_NE(summary.find("\"wall_per_simulated_second\""), std::string::npos);
+}
+
+TEST(LegScene, ABlownUpRunSaysWhenWhereAndWhyAndKeepsItsFrames) {
+  // The drop released with a time step far past stability.
+  const std::string dir = (fs::path(TB_TEST_OUTPUT_DIR) / "leg_scene_test" / "blowup").string();
+  fs::remove_all(dir);
+  const std::string f = variant_of("drop", "dt: 2.0e-4", "dt: 8.0e-3", dir + "/drop_big_step.yaml");
+  leg::LegScene s = leg::read_leg_scene(f);
+  s.obj_every = 0;
+  const auto runs = leg::run_leg_scene(s, dir);
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].status, "failed");
+  EXPECT_NE(runs[0].failure.find(" s "), std::string::npos) << runs[0].failure;  // "at t = ... s"
+  EXPECT_NE(runs[0].failure.find("non-finite"), std::string::npos) << runs[0].failure;
+  EXPECT_LT(runs[0].simulated, s.duration);
+  const tbio::Results r = tbio::read_results(dir + "/leg.h5");
+  EXPECT_EQ(r.status(), "failed");
+  EXPECT_EQ(static_cast<long>(r.series.at("time").size()), runs[0].frames);
+  EXPECT_GE(runs[0].frames, 1);
+  const std::string summary = read(dir + "/summary.json");
+  EXPECT_NE(summary.find("\"status\": \"failed\""), std::string::npos);
+  EXPECT_NE(summary.find("\"failure\""), std::string::npos);
+}
