@@ -71,6 +71,90 @@ class DirichletField : public Function<3> {
   double scale_;
 };
 
+// @sect3{Assembly data}
+// As in step-44: the scratch of one cell's assembly (FE values, work arrays
+// and the loads at the assembly's time, reused from cell to cell) and one
+// cell's contribution (its matrix and vectors, and its share of the
+// measurements), which copy_local_to_global adds to the global system.
+struct AssemblyScratch {
+  AssemblyScratch(const Mapping<3>& mapping, const FiniteElement<3>& fe, const Quadrature<3>& quad,
+                  const Quadrature<2>& face_quad, const LA::MPI::Vector& u_ghost, double time, bool with_matrix)
+      : fv(mapping, fe, quad, update_values | update_gradients | update_JxW_values | update_quadrature_points),
+        traction_fv(mapping, fe, face_quad, update_values | update_JxW_values),
+        contact_fv(mapping, fe, face_quad, update_values | update_JxW_values | update_quadrature_points),
+        u(u_ghost),
+        t(time),
+        matrix(with_matrix),
+        comp(fe.n_dofs_per_cell()),
+        grad(quad.size()),
+        Jq(quad.size()),
+        JxWq(quad.size()),
+        st(fe.n_dofs_per_cell()),
+        face_u(face_quad.size()) {
+    for (unsigned a = 0; a < fe.n_dofs_per_cell(); ++a) comp[a] = fe.system_to_component_index(a).first;
+  }
+
+  FEValues<3> fv;
+  FEFaceValues<3> traction_fv, contact_fv;
+  const LA::MPI::Vector& u;  ///< displacement (ghosted)
+  double t;                  ///< load time
+  bool matrix;               ///< assemble the tangent too
+  double mu = 0.0, kappa = 0.0, rho = 0.0;  ///< rho: the density times the gravity path at t
+  bool three_field = false;
+  std::map<int, Tensor<1, 3>> traction;  ///< nominal traction density by boundary id, at t
+
+  std::vector<unsigned> comp;  ///< each local dof's component
+  std::vector<Tensor<2, 3>> grad;
+  std::vector<double> Jq, JxWq;
+  std::vector<ShapeTerms> st;
+  std::vector<Tensor<1, 3>> face_u;
+  CellDilatation dil;
+  FullMatrix<double> B, GB;
+};
+
+struct CellAssembly {
+  CellAssembly(unsigned dofs_per_cell, size_t contacts)
+      : K(dofs_per_cell, dofs_per_cell),
+        f_int(dofs_per_cell),
+        f_ext(dofs_per_cell),
+        residual(dofs_per_cell),
+        dofs(dofs_per_cell),
+        contact_penetration(contacts) {}
+
+  FullMatrix<double> K;                         ///< tangent (when assembled)
+  Vector<double> f_int, f_ext, residual;        ///< residual = f_ext - f_int
+  std::vector<types::global_dof_index> dofs;
+  bool valid = true;                            ///< false if some J <= 0
+  double min_J = std::numeric_limits<double>::infinity();
+  /// The cell's strain-energy terms in the order computed, and its contact
+  /// forces per contact quadrature point: added to the global sums one by one
+  /// in cell order, they give the serial loop's sums exactly.
+  std::vector<double> energy;
+  std::vector<std::pair<size_t, Tensor<1, 3>>> contact_force;
+  std::vector<double> contact_penetration;      ///< per contact, the largest on the cell
+
+  void reset() {
+    K = 0.0;
+    f_int = 0.0;
+    f_ext = 0.0;
+    valid = true;
+    min_J = std::numeric_limits<double>::infinity();
+    energy.clear();
+    contact_force.clear();
+    std::fill(contact_penetration.begin(), contact_penetration.end(), 0.0);
+  }
+};
+
+// Empty (closed) constraints: distributes the unconstrained vectors.
+const AffineConstraints<double>& no_constraints() {
+  static const AffineConstraints<double> none = [] {
+    AffineConstraints<double> c;
+    c.close();
+    return c;
+  }();
+  return none;
+}
+
 // @sect3{The solver}
 class Solver {
  public:
@@ -97,6 +181,18 @@ class Solver {
   /// `matrix`), the constrained right-hand side -(f_int - f_ext), and the
   /// unconstrained vectors f_int_full and f_ext_full.
   Assembled assemble(const LA::MPI::Vector& u, double t, const AffineConstraints<double>& c, bool matrix);
+  /// One cell's matrix and vectors (step-44's assemble_system_one_cell).
+  void assemble_one_cell(const DoFHandler<3>::active_cell_iterator& cell, AssemblyScratch& s,
+                         CellAssembly& data) const;
+  void add_volume_terms(AssemblyScratch& s, CellAssembly& data) const;
+  void add_dead_surface_loads(const DoFHandler<3>::active_cell_iterator& cell, AssemblyScratch& s,
+                              CellAssembly& data) const;
+  void add_cylinder_contact(const DoFHandler<3>::active_cell_iterator& cell, AssemblyScratch& s,
+                            CellAssembly& data) const;
+  /// Adds a cell's contribution to K and rhs through the constraints c, to
+  /// f_int_full and f_ext_full unconstrained, and to the measurements.
+  void copy_local_to_global(const CellAssembly& data, const AffineConstraints<double>& c, bool matrix,
+                            Assembled& result);
   void assemble_mass_matrix();
 
   // @sect4{Linear solves}
@@ -367,162 +463,26 @@ Solver::Assembled Solver::assemble(const LA::MPI::Vector& u, double t, const Aff
   rhs = 0.0;
   f_int_full = 0.0;
   f_ext_full = 0.0;
-  const unsigned n = fe.n_dofs_per_cell(), nq = quad.size();
-  FEValues<3> fv(mapping, fe, quad,
-                 update_values | update_gradients | update_JxW_values | update_quadrature_points);
-  FEFaceValues<3> ffv(mapping, fe, face_quad, update_values | update_JxW_values);
-  FEFaceValues<3> contact_fv(mapping, fe, face_quad, update_values | update_JxW_values | update_quadrature_points);
-  std::vector<Tensor<1, 3>> face_u(face_quad.size());
   contact_force.assign(P.contacts.size(), {{0, 0, 0}});
   contact_penetration.assign(P.contacts.size(), 0.0);
-  FullMatrix<double> Ke(n, n), B, GB;
-  Vector<double> f_in(n), f_ex(n), r(n);
-  std::vector<double> Jq(nq), JxWq(nq);
-  CellDilatation dil;
-  std::vector<types::global_dof_index> ids(n);
-  std::vector<Tensor<2, 3>> grad(nq);
-  std::vector<ShapeTerms> st(n);
-  std::vector<unsigned> comp(n);
-  for (unsigned a = 0; a < n; ++a) comp[a] = fe.system_to_component_index(a).first;
-  const FEValuesExtractors::Vector disp(0);
-  const double mu = P.material.mu, kappa = P.material.kappa, rho = P.material.density * P.gravity_path(t);
-  const bool three_field = P.formulation == Formulation::ThreeField;
-  AffineConstraints<double> none;
-  none.close();
-  Assembled result;
+  AssemblyScratch scratch(mapping, fe, quad, face_quad, u, t, matrix);
+  scratch.mu = P.material.mu;
+  scratch.kappa = P.material.kappa;
+  scratch.rho = P.material.density * P.gravity_path(t);
+  scratch.three_field = P.formulation == Formulation::ThreeField;
   // Traction densities (nominal) per face.
-  std::map<int, Tensor<1, 3>> traction;
   for (const auto& tr : active_tractions) {
     const double area = face_area[static_cast<size_t>(tr.face)];
     Tensor<1, 3> td;
     for (unsigned i = 0; i < 3; ++i) td[i] = tr.total_force[i] * tr.path(t) / area;
-    traction[tr.face] += td;
+    scratch.traction[tr.face] += td;
   }
-
+  CellAssembly data(fe.n_dofs_per_cell(), P.contacts.size());
+  Assembled result;
   for (const auto& cell : dof.active_cell_iterators()) {
     if (!cell->is_locally_owned()) continue;
-    fv.reinit(cell);
-    cell->get_dof_indices(ids);
-    fv[disp].get_function_gradients(u, grad);
-    Ke = 0.0;
-    f_in = 0.0;
-    f_ex = 0.0;
-    // Condensed volumetric state of the three-field formulation (P_{k-1}
-    // dilatation and pressure, dilatation.h).
-    for (unsigned q = 0; q < nq; ++q) {
-      Jq[q] = determinant(unit_symmetric_tensor<3>() + grad[q]);
-      JxWq[q] = fv.JxW(q);
-    }
-    if (three_field) {
-      dil.reinit(P.degree - 1, fv.get_quadrature_points(), JxWq);
-      if (!dil.compute(Jq, kappa)) result.valid = false;
-      result.strain_energy += dil.energy();
-      B.reinit(dil.size(), n);
-    }
-    for (unsigned q = 0; q < nq; ++q) {
-      const Kinematics k(grad[q]);
-      result.min_J = std::min(result.min_J, k.J);
-      if (!(k.J > 0.0)) {
-        result.valid = false;
-        continue;
-      }
-      const double JxW = fv.JxW(q);
-      const double p = three_field ? dil.pressure(q) : dU(kappa, k.J);
-      result.strain_energy += (psi_iso(mu, k) + (three_field ? 0.0 : U(kappa, k.J))) * JxW;
-      const Tensor<2, 3> Piso = P_iso(mu, k);
-      for (unsigned a = 0; a < n; ++a) st[a] = shape_terms(k, fv.shape_grad_component(a, q, comp[a]), comp[a]);
-      for (unsigned a = 0; a < n; ++a) {
-        const auto& A = st[a];
-        f_in[a] += ((Piso * A.g)[A.c] + p * k.J * A.h[A.c]) * JxW;
-        f_ex[a] += rho * P.gravity[A.c] * fv.shape_value_component(a, q, A.c) * JxW;
-        if (three_field)
-          for (unsigned l = 0; l < dil.size(); ++l) B(l, a) += dil.phi(q, l) * k.J * A.h[A.c] * JxW;
-        if (!matrix) continue;
-        for (unsigned bb = 0; bb <= a; ++bb) {
-          const auto& Bs = st[bb];
-          double kab = iso_tangent(mu, k, A, Bs) + p * dJFinvT(k, A, Bs);
-          if (!three_field) kab += ddU(kappa, k.J) * k.J * k.J * A.h[A.c] * Bs.h[Bs.c];
-          Ke(a, bb) += kab * JxW;
-        }
-      }
-    }
-    if (matrix) {
-      if (three_field) {
-        // B^T G B (the condensed volumetric stiffness).
-        GB.reinit(dil.size(), n);
-        dil.G().mmult(GB, B);
-        for (unsigned a = 0; a < n; ++a)
-          for (unsigned bb = 0; bb <= a; ++bb) {
-            double s = 0.0;
-            for (unsigned l = 0; l < dil.size(); ++l) s += B(l, a) * GB(l, bb);
-            Ke(a, bb) += s;
-          }
-      }
-      for (unsigned a = 0; a < n; ++a)
-        for (unsigned bb = 0; bb < a; ++bb) Ke(bb, a) = Ke(a, bb);
-    }
-    // Dead surface loads.
-    if (!traction.empty())
-      for (unsigned f = 0; f < cell->n_faces(); ++f) {
-        if (!cell->face(f)->at_boundary()) continue;
-        const auto it = traction.find(cell->face(f)->boundary_id());
-        if (it == traction.end()) continue;
-        ffv.reinit(cell, f);
-        for (unsigned q = 0; q < face_quad.size(); ++q)
-          for (unsigned a = 0; a < n; ++a)
-            f_ex[a] += it->second[comp[a]] * ffv.shape_value_component(a, q, comp[a]) * ffv.JxW(q);
-      }
-    // Penalty contact with rigid cylinders (fem.hpp, RigidCylinderContact):
-    // the traction enters f_int with a minus sign (it depends on u, unlike the
-    // dead loads), its energy the strain energy (the line search's merit).
-    for (size_t k = 0; k < P.contacts.size(); ++k) {
-      const RigidCylinderContact& rc = P.contacts[k];
-      Tensor<1, 3> ax, centre;
-      for (unsigned i = 0; i < 3; ++i) {
-        ax[i] = rc.axis[i];
-        centre[i] = rc.point[i] + rc.motion[i] * rc.path(t);
-      }
-      for (unsigned f = 0; f < cell->n_faces(); ++f) {
-        if (!cell->face(f)->at_boundary()) continue;
-        if (std::find(rc.faces.begin(), rc.faces.end(), static_cast<int>(cell->face(f)->boundary_id())) ==
-            rc.faces.end())
-          continue;
-        contact_fv.reinit(cell, f);
-        contact_fv[disp].get_function_values(u, face_u);
-        for (unsigned q = 0; q < face_quad.size(); ++q) {
-          const Tensor<1, 3> x = contact_fv.quadrature_point(q) + face_u[q];
-          Tensor<1, 3> d = x - centre;
-          d -= (d * ax) * ax;
-          const double rr = d.norm(), g = rc.radius - rr;
-          if (!(g > 0.0) || !(rr > 0.0)) continue;
-          const Tensor<1, 3> nrm = d / rr;
-          const double JxW = contact_fv.JxW(q), eps = rc.penalty;
-          result.strain_energy += 0.5 * eps * g * g * JxW;
-          contact_force[k][0] += eps * g * nrm[0] * JxW;
-          contact_force[k][1] += eps * g * nrm[1] * JxW;
-          contact_force[k][2] += eps * g * nrm[2] * JxW;
-          contact_penetration[k] = std::max(contact_penetration[k], g);
-          for (unsigned a = 0; a < n; ++a) {
-            const double Na = contact_fv.shape_value_component(a, q, comp[a]);
-            if (Na == 0.0) continue;
-            f_in[a] -= eps * g * nrm[comp[a]] * Na * JxW;
-            if (!matrix) continue;
-            for (unsigned bb = 0; bb < n; ++bb) {
-              const double Nb = contact_fv.shape_value_component(bb, q, comp[bb]);
-              if (Nb == 0.0) continue;
-              const unsigned i = comp[a], j = comp[bb];
-              const double tang = (i == j ? 1.0 : 0.0) - ax[i] * ax[j] - nrm[i] * nrm[j];
-              Ke(a, bb) += eps * (nrm[i] * nrm[j] - g / rr * tang) * Na * Nb * JxW;
-            }
-          }
-        }
-      }
-    }
-    for (unsigned a = 0; a < n; ++a) r[a] = f_ex[a] - f_in[a];
-    if (matrix) c.distribute_local_to_global(Ke, r, ids, K, rhs);
-    else c.distribute_local_to_global(r, ids, rhs);
-    none.distribute_local_to_global(f_in, ids, f_int_full);
-    none.distribute_local_to_global(f_ex, ids, f_ext_full);
+    assemble_one_cell(cell, scratch, data);
+    copy_local_to_global(data, c, matrix, result);
   }
   if (matrix) K.compress(VectorOperation::add);
   rhs.compress(VectorOperation::add);
@@ -537,6 +497,171 @@ Solver::Assembled Solver::assemble(const LA::MPI::Vector& u, double t, const Aff
   }
   summary.assembly_seconds += seconds_since(t_start);
   return result;
+}
+
+void Solver::assemble_one_cell(const DoFHandler<3>::active_cell_iterator& cell, AssemblyScratch& s,
+                               CellAssembly& data) const {
+  data.reset();
+  s.fv.reinit(cell);
+  cell->get_dof_indices(data.dofs);
+  add_volume_terms(s, data);
+  add_dead_surface_loads(cell, s, data);
+  add_cylinder_contact(cell, s, data);
+  for (unsigned a = 0; a < fe.n_dofs_per_cell(); ++a) data.residual[a] = data.f_ext[a] - data.f_int[a];
+}
+
+// The volume terms at the cell's quadrature points: internal forces, weight,
+// tangent and strain energy. The condensed volumetric state of the
+// three-field formulation (P_{k-1} dilatation and pressure, dilatation.h)
+// enters through p~ and B^T G B.
+void Solver::add_volume_terms(AssemblyScratch& s, CellAssembly& data) const {
+  const unsigned n = fe.n_dofs_per_cell(), nq = quad.size();
+  const FEValuesExtractors::Vector disp(0);
+  const FEValues<3>& fv = s.fv;
+  const double mu = s.mu, kappa = s.kappa, rho = s.rho;
+  const bool three_field = s.three_field, matrix = s.matrix;
+  CellDilatation& dil = s.dil;
+  FullMatrix<double>& Ke = data.K;
+  fv[disp].get_function_gradients(s.u, s.grad);
+  for (unsigned q = 0; q < nq; ++q) {
+    s.Jq[q] = determinant(unit_symmetric_tensor<3>() + s.grad[q]);
+    s.JxWq[q] = fv.JxW(q);
+  }
+  if (three_field) {
+    dil.reinit(P.degree - 1, fv.get_quadrature_points(), s.JxWq);
+    if (!dil.compute(s.Jq, kappa)) data.valid = false;
+    data.energy.push_back(dil.energy());
+    s.B.reinit(dil.size(), n);
+  }
+  for (unsigned q = 0; q < nq; ++q) {
+    const Kinematics k(s.grad[q]);
+    data.min_J = std::min(data.min_J, k.J);
+    if (!(k.J > 0.0)) {
+      data.valid = false;
+      continue;
+    }
+    const double JxW = fv.JxW(q);
+    const double p = three_field ? dil.pressure(q) : dU(kappa, k.J);
+    data.energy.push_back((psi_iso(mu, k) + (three_field ? 0.0 : U(kappa, k.J))) * JxW);
+    const Tensor<2, 3> Piso = P_iso(mu, k);
+    for (unsigned a = 0; a < n; ++a) s.st[a] = shape_terms(k, fv.shape_grad_component(a, q, s.comp[a]), s.comp[a]);
+    for (unsigned a = 0; a < n; ++a) {
+      const auto& A = s.st[a];
+      data.f_int[a] += ((Piso * A.g)[A.c] + p * k.J * A.h[A.c]) * JxW;
+      data.f_ext[a] += rho * P.gravity[A.c] * fv.shape_value_component(a, q, A.c) * JxW;
+      if (three_field)
+        for (unsigned l = 0; l < dil.size(); ++l) s.B(l, a) += dil.phi(q, l) * k.J * A.h[A.c] * JxW;
+      if (!matrix) continue;
+      for (unsigned bb = 0; bb <= a; ++bb) {
+        const auto& Bs = s.st[bb];
+        double kab = iso_tangent(mu, k, A, Bs) + p * dJFinvT(k, A, Bs);
+        if (!three_field) kab += ddU(kappa, k.J) * k.J * k.J * A.h[A.c] * Bs.h[Bs.c];
+        Ke(a, bb) += kab * JxW;
+      }
+    }
+  }
+  if (!matrix) return;
+  if (three_field) {
+    // B^T G B (the condensed volumetric stiffness).
+    s.GB.reinit(dil.size(), n);
+    dil.G().mmult(s.GB, s.B);
+    for (unsigned a = 0; a < n; ++a)
+      for (unsigned bb = 0; bb <= a; ++bb) {
+        double sum = 0.0;
+        for (unsigned l = 0; l < dil.size(); ++l) sum += s.B(l, a) * s.GB(l, bb);
+        Ke(a, bb) += sum;
+      }
+  }
+  for (unsigned a = 0; a < n; ++a)
+    for (unsigned bb = 0; bb < a; ++bb) Ke(bb, a) = Ke(a, bb);
+}
+
+// Dead surface loads: the nominal traction densities on the cell's boundary
+// faces.
+void Solver::add_dead_surface_loads(const DoFHandler<3>::active_cell_iterator& cell, AssemblyScratch& s,
+                                    CellAssembly& data) const {
+  if (s.traction.empty()) return;
+  const unsigned n = fe.n_dofs_per_cell();
+  for (unsigned f = 0; f < cell->n_faces(); ++f) {
+    if (!cell->face(f)->at_boundary()) continue;
+    const auto it = s.traction.find(cell->face(f)->boundary_id());
+    if (it == s.traction.end()) continue;
+    s.traction_fv.reinit(cell, f);
+    for (unsigned q = 0; q < face_quad.size(); ++q)
+      for (unsigned a = 0; a < n; ++a)
+        data.f_ext[a] += it->second[s.comp[a]] * s.traction_fv.shape_value_component(a, q, s.comp[a]) *
+                         s.traction_fv.JxW(q);
+  }
+}
+
+// Penalty contact with rigid cylinders (fem.hpp, RigidCylinderContact): the
+// traction enters f_int with a minus sign (it depends on u, unlike the dead
+// loads), its energy the strain energy (the line search's merit).
+void Solver::add_cylinder_contact(const DoFHandler<3>::active_cell_iterator& cell, AssemblyScratch& s,
+                                  CellAssembly& data) const {
+  const unsigned n = fe.n_dofs_per_cell();
+  const FEValuesExtractors::Vector disp(0);
+  FEFaceValues<3>& contact_fv = s.contact_fv;
+  const std::vector<unsigned>& comp = s.comp;
+  FullMatrix<double>& Ke = data.K;
+  for (size_t k = 0; k < P.contacts.size(); ++k) {
+    const RigidCylinderContact& rc = P.contacts[k];
+    Tensor<1, 3> ax, centre;
+    for (unsigned i = 0; i < 3; ++i) {
+      ax[i] = rc.axis[i];
+      centre[i] = rc.point[i] + rc.motion[i] * rc.path(s.t);
+    }
+    for (unsigned f = 0; f < cell->n_faces(); ++f) {
+      if (!cell->face(f)->at_boundary()) continue;
+      if (std::find(rc.faces.begin(), rc.faces.end(), static_cast<int>(cell->face(f)->boundary_id())) ==
+          rc.faces.end())
+        continue;
+      contact_fv.reinit(cell, f);
+      contact_fv[disp].get_function_values(s.u, s.face_u);
+      for (unsigned q = 0; q < face_quad.size(); ++q) {
+        const Tensor<1, 3> x = contact_fv.quadrature_point(q) + s.face_u[q];
+        Tensor<1, 3> d = x - centre;
+        d -= (d * ax) * ax;
+        const double rr = d.norm(), g = rc.radius - rr;
+        if (!(g > 0.0) || !(rr > 0.0)) continue;
+        const Tensor<1, 3> nrm = d / rr;
+        const double JxW = contact_fv.JxW(q), eps = rc.penalty;
+        data.energy.push_back(0.5 * eps * g * g * JxW);
+        Tensor<1, 3> force;
+        for (unsigned i = 0; i < 3; ++i) force[i] = eps * g * nrm[i] * JxW;
+        data.contact_force.emplace_back(k, force);
+        data.contact_penetration[k] = std::max(data.contact_penetration[k], g);
+        for (unsigned a = 0; a < n; ++a) {
+          const double Na = contact_fv.shape_value_component(a, q, comp[a]);
+          if (Na == 0.0) continue;
+          data.f_int[a] -= eps * g * nrm[comp[a]] * Na * JxW;
+          if (!s.matrix) continue;
+          for (unsigned bb = 0; bb < n; ++bb) {
+            const double Nb = contact_fv.shape_value_component(bb, q, comp[bb]);
+            if (Nb == 0.0) continue;
+            const unsigned i = comp[a], j = comp[bb];
+            const double tang = (i == j ? 1.0 : 0.0) - ax[i] * ax[j] - nrm[i] * nrm[j];
+            Ke(a, bb) += eps * (nrm[i] * nrm[j] - g / rr * tang) * Na * Nb * JxW;
+          }
+        }
+      }
+    }
+  }
+}
+
+void Solver::copy_local_to_global(const CellAssembly& data, const AffineConstraints<double>& c, bool matrix,
+                                  Assembled& result) {
+  if (matrix) c.distribute_local_to_global(data.K, data.residual, data.dofs, K, rhs);
+  else c.distribute_local_to_global(data.residual, data.dofs, rhs);
+  no_constraints().distribute_local_to_global(data.f_int, data.dofs, f_int_full);
+  no_constraints().distribute_local_to_global(data.f_ext, data.dofs, f_ext_full);
+  result.valid = result.valid && data.valid;
+  result.min_J = std::min(result.min_J, data.min_J);
+  for (double e : data.energy) result.strain_energy += e;
+  for (const auto& [k, force] : data.contact_force)
+    for (unsigned i = 0; i < 3; ++i) contact_force[k][i] += force[i];
+  for (size_t k = 0; k < data.contact_penetration.size(); ++k)
+    contact_penetration[k] = std::max(contact_penetration[k], data.contact_penetration[k]);
 }
 
 // Consistent mass matrix M_ab = int rho N_a N_b dV (same component).

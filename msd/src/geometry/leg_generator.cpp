@@ -75,133 +75,198 @@ void require_range(double v, double lo, double hi, const std::string& what) {
   }
 }
 
-}  // namespace
+// The body's lengths, scaled from the reference body: lengths with stature,
+// girths with sqrt(mass ratio / length ratio).
+struct LegFrame {
+  double ls, gs;                  // length and girth scales
+  double z_top, z_knee, z_ankle;  // hip-joint, knee and ankle heights
+  double L, B, Bh;                // foot length and breadth, heel breadth
+  double T, S;                    // thigh and shank lengths
+  double x_heel;                  // the heel's back
+};
 
-LegGeometry make_leg(const LegParameters& p) {
-  require_range(p.stature, 1.2, 2.3, "stature (m)");
-  require_range(p.mass, 30.0, 200.0, "mass (kg)");
-  require_range(p.skin_cell, 0.002, 0.03, "skin_cell (m)");
+LegFrame leg_frame(const LegParameters& p) {
   const LegDimensions& d = p.dims;
-  const double ls = p.stature / d.reference_stature;                      // lengths
-  const double gs = std::sqrt((p.mass / d.reference_mass) / ls);          // girths
+  LegFrame f;
+  f.ls = p.stature / d.reference_stature;
+  f.gs = std::sqrt((p.mass / d.reference_mass) / f.ls);
   const double H = p.stature;
+  f.z_top = d.hip_height_frac * H;
+  f.z_knee = d.knee_height_frac * H;
+  f.z_ankle = d.ankle_height * f.ls;
+  f.L = d.foot_length * f.ls;
+  f.B = d.foot_breadth * f.ls;
+  f.Bh = d.heel_breadth * f.ls;
+  f.T = f.z_top - f.z_knee;
+  f.S = f.z_knee - f.z_ankle;
+  f.x_heel = -d.heel_to_ankle_frac * f.L;
+  return f;
+}
 
-  LegGeometry leg;
-  leg.girth_scale = gs;
-  const double z_top = d.hip_height_frac * H, z_knee = d.knee_height_frac * H, z_ankle = d.ankle_height * ls;
-  const double L = d.foot_length * ls, B = d.foot_breadth * ls, Bh = d.heel_breadth * ls;
-  leg.hip_height = z_top;
-  leg.knee_height = z_knee;
-  leg.ankle_height = z_ankle;
-  leg.foot_length = L;
-  leg.knee_centre = Vec3(0.0, 0.0, z_knee);
-  const double T = z_top - z_knee, S = z_knee - z_ankle;  // thigh and shank lengths
+// The thigh's elliptic sections by height: girth, AP/ML axis ratio, centre
+// offset forward, interpolated between five measured heights. The ratios and
+// offsets are modelling choices (docs/leg-geometry.md); the girths and
+// heights are measurements.
+class ThighSections {
+ public:
+  ThighSections(const LegDimensions& d, const LegFrame& f)
+      : z_lo_(f.z_ankle),
+        z_hi_(f.z_top),
+        girth_(heights(f), {d.ankle_girth * f.gs, d.calf_girth * f.gs, d.knee_girth * f.gs,
+                            d.lower_thigh_girth * f.gs, d.upper_thigh_girth * f.gs}),
+        ratio_(heights(f), {0.85, 0.92, 0.90, 0.92, 0.95}),
+        offset_(heights(f), {-0.005 * f.gs, -0.015 * f.gs, 0.005 * f.gs, 0.0, -0.010 * f.gs}) {}
 
-  // ---- Skin: a lofted tube of elliptic sections, a foot, blended. --------
-  // Sections (height, girth, AP/ML axis ratio, centre offset forward). The
-  // ratios and offsets are modelling choices (docs/leg-geometry.md); the
-  // girths and heights are measurements.
-  const std::vector<double> zs{z_ankle + 0.12 * S, z_knee - 0.30 * S, z_knee, z_knee + 0.08 * T, z_top};
-  const MonotoneCubic girth(zs, {d.ankle_girth * gs, d.calf_girth * gs, d.knee_girth * gs, d.lower_thigh_girth * gs,
-                                 d.upper_thigh_girth * gs});
-  const MonotoneCubic ratio(zs, {0.85, 0.92, 0.90, 0.92, 0.95});
-  const MonotoneCubic offset(zs, {-0.005 * gs, -0.015 * gs, 0.005 * gs, 0.0, -0.010 * gs});
-  // The thigh's section at height z: centre offset, semi-axes (AP, ML).
-  auto section = [&](double z, double& cx, double& a, double& b) {
-    z = std::clamp(z, z_ankle, z_top);
-    const double r = ratio(z);
-    b = semi_axis_for_girth(girth(z), r);
+  // The section at height z (clamped to ankle ... hip): centre offset cx,
+  // semi-axes a (AP) and b (ML).
+  void operator()(double z, double& cx, double& a, double& b) const {
+    z = std::clamp(z, z_lo_, z_hi_);
+    const double r = ratio_(z);
+    b = semi_axis_for_girth(girth_(z), r);
     a = r * b;
-    cx = offset(z);
-  };
-  const double x_heel = -d.heel_to_ankle_frac * L;
-  auto tube = [&](const Vec3& x) {
-    double cx, a, b;
-    section(x.z(), cx, a, b);
-    double f = ellipse_field(x.x() - cx, x.y(), a, b);
-    f = smooth_max(f, z_ankle - x.z(), 0.01);  // the tube ends in the foot
-    return f;
-  };
-  auto foot = [&](const Vec3& x) {
-    const double heel = ellipsoid_field(x, Vec3(x_heel + 0.17 * L, 0.0, 0.14 * L), Vec3(0.17 * L, 0.5 * Bh, 0.16 * L));
-    const double mid = ellipsoid_field(x, Vec3(x_heel + 0.50 * L, 0.0, 0.11 * L), Vec3(0.30 * L, 0.45 * B, 0.13 * L));
-    const double fore = ellipsoid_field(x, Vec3(x_heel + 0.80 * L, 0.0, 0.07 * L), Vec3(0.20 * L, 0.50 * B, 0.09 * L));
-    return smooth_min(smooth_min(heel, mid, 0.025 * ls), fore, 0.025 * ls);
-  };
-  const ScalarField skin_field = [&](const Vec3& x) {
-    double f = smooth_min(tube(x), foot(x), 0.03 * ls);
-    f = smooth_max(f, x.z() - z_top, 0.01 * ls);  // cut at hip-joint height
-    f = smooth_max(f, -x.z(), 0.008 * ls);        // the sole
-    return f;
-  };
+    cx = offset_(z);
+  }
+  double girth(double z) const { return girth_(z); }
 
-  // ---- Bones (sizes scale with stature). --------------------------------
-  const double rf = 0.5 * d.femur_shaft_diameter * ls, rt = 0.5 * d.tibia_shaft_diameter * ls;
-  const double rfib = 0.5 * d.fibula_diameter * ls;
-  // The knee cap sits in front of the trochlea (the condyles' front) with a
-  // 4 mm gap; in a slim knee it keeps 3 mm of tissue under the skin and the
-  // trochlea gives way behind it.
-  const double tp = d.patella_thickness * ls, z_patella = z_knee + 0.03 * ls;
+ private:
+  static std::vector<double> heights(const LegFrame& f) {
+    return {f.z_ankle + 0.12 * f.S, f.z_knee - 0.30 * f.S, f.z_knee, f.z_knee + 0.08 * f.T, f.z_top};
+  }
+  double z_lo_, z_hi_;
+  MonotoneCubic girth_, ratio_, offset_;
+};
+
+// ---- Skin: a lofted tube of elliptic sections, a foot, blended. ----------
+
+// The thigh and shank: the tube of sections, ending in the foot.
+double tube_field(const LegFrame& f, const ThighSections& section, const Vec3& x) {
+  double cx, a, b;
+  section(x.z(), cx, a, b);
+  double v = ellipse_field(x.x() - cx, x.y(), a, b);
+  v = smooth_max(v, f.z_ankle - x.z(), 0.01);  // the tube ends in the foot
+  return v;
+}
+
+// The foot: heel, midfoot and forefoot ellipsoids, blended.
+double foot_field(const LegFrame& f, const Vec3& x) {
+  const double L = f.L, B = f.B, Bh = f.Bh, x_heel = f.x_heel;
+  const double heel = ellipsoid_field(x, Vec3(x_heel + 0.17 * L, 0.0, 0.14 * L), Vec3(0.17 * L, 0.5 * Bh, 0.16 * L));
+  const double mid = ellipsoid_field(x, Vec3(x_heel + 0.50 * L, 0.0, 0.11 * L), Vec3(0.30 * L, 0.45 * B, 0.13 * L));
+  const double fore = ellipsoid_field(x, Vec3(x_heel + 0.80 * L, 0.0, 0.07 * L), Vec3(0.20 * L, 0.50 * B, 0.09 * L));
+  return smooth_min(smooth_min(heel, mid, 0.025 * f.ls), fore, 0.025 * f.ls);
+}
+
+// The skin: tube and foot blended, cut at hip-joint height and at the sole.
+ScalarField skin_field(const LegFrame& f, const ThighSections& section) {
+  return [f, &section](const Vec3& x) {
+    double v = smooth_min(tube_field(f, section, x), foot_field(f, x), 0.03 * f.ls);
+    v = smooth_max(v, x.z() - f.z_top, 0.01 * f.ls);  // cut at hip-joint height
+    v = smooth_max(v, -x.z(), 0.008 * f.ls);          // the sole
+    return v;
+  };
+}
+
+// ---- Bones (sizes scale with stature). ----------------------------------
+
+// Where the bones' landmarks lie in this body.
+struct BoneLayout {
+  double rf, rt, rfib;     // femur and tibia shaft radii, fibula radius
+  double condyle_ap;       // the femur's condyles, AP semi-axis
+  Vec3 patella_centre;
+  double z_fib, z_dist;    // heights of the fibula's lower end and the tibia's distal end
+  double y_fib, distal_y;  // the fibula's lower end, ML; the tibia's distal ML semi-axis
+};
+
+// The knee cap sits in front of the trochlea (the condyles' front) with a
+// 4 mm gap; in a slim knee it keeps 3 mm of tissue under the skin and the
+// trochlea gives way behind it. At the ankle the malleoli lie just under the
+// skin: the fibula's lower end and the tibia's distal width keep 4 mm of
+// tissue to the skin's section whatever the girth. Throws msd::Error where
+// the knee or ankle is too slim for the bones.
+BoneLayout place_bones(const LegParameters& p, const LegFrame& f, const ThighSections& section) {
+  const LegDimensions& d = p.dims;
+  const double ls = f.ls;
+  BoneLayout b;
+  b.rf = 0.5 * d.femur_shaft_diameter * ls;
+  b.rt = 0.5 * d.tibia_shaft_diameter * ls;
+  b.rfib = 0.5 * d.fibula_diameter * ls;
+  const double tp = d.patella_thickness * ls, z_patella = f.z_knee + 0.03 * ls;
   double cx_k, a_k, b_k;
   section(z_patella, cx_k, a_k, b_k);
   const double patella_x = std::min(0.026 * ls + 0.004 * ls + 0.5 * tp, cx_k + a_k - 0.5 * tp - 0.003);
-  const double condyle_ap = std::min(0.026 * ls, patella_x - 0.5 * tp - 0.003);
-  const ScalarField femur_field = [&](const Vec3& x) {
-    const double shaft = capsule_field(x, Vec3(0, 0, z_knee + 0.06 * ls), Vec3(0, 0, z_top - 0.07 * ls), rf);
-    const double head = ellipsoid_field(x, Vec3(-0.005 * ls, 0, z_top - 0.06 * ls), Vec3(0.022, 0.028, 0.035) * ls);
-    const double condyles = ellipsoid_field(x, Vec3(0, 0, z_knee + 0.028 * ls),
-                                            Vec3(condyle_ap, 0.5 * d.femur_bicondylar_breadth * ls, 0.024 * ls));
-    return smooth_min(smooth_min(shaft, head, 0.02 * ls), condyles, 0.02 * ls);
-  };
-  const Vec3 patella_centre(patella_x, 0.0, z_patella);
-  // At the ankle the malleoli lie just under the skin: the fibula's lower end
-  // and the tibia's distal width keep 4 mm of tissue to the skin's section
-  // whatever the girth.
-  const double z_fib = z_ankle + 0.015 * ls, z_dist = z_ankle + 0.012 * ls;
+  b.condyle_ap = std::min(0.026 * ls, patella_x - 0.5 * tp - 0.003);
+  b.patella_centre = Vec3(patella_x, 0.0, z_patella);
+  b.z_fib = f.z_ankle + 0.015 * ls;
+  b.z_dist = f.z_ankle + 0.012 * ls;
   double cx_a, a_a, b_fib, b_dist;
-  section(z_fib, cx_a, a_a, b_fib);
-  section(z_dist, cx_a, a_a, b_dist);
-  const double y_fib = std::min(0.026 * ls, b_fib - rfib - 0.004);
-  const double distal_y = std::min(0.025 * ls, b_dist - 0.004 * ls - 0.004);
-  if (condyle_ap < 0.013 * ls || distal_y < 0.0125 * ls || y_fib < rt) {
+  section(b.z_fib, cx_a, a_a, b_fib);
+  section(b.z_dist, cx_a, a_a, b_dist);
+  b.y_fib = std::min(0.026 * ls, b_fib - b.rfib - 0.004);
+  b.distal_y = std::min(0.025 * ls, b_dist - 0.004 * ls - 0.004);
+  if (b.condyle_ap < 0.013 * ls || b.distal_y < 0.0125 * ls || b.y_fib < b.rt) {
     std::ostringstream m;
-    m << "leg (stature " << p.stature << " m, mass " << p.mass << " kg): the knee and ankle girths (" << girth(z_patella)
-      << " m, " << girth(z_dist) << " m) are too small for bones of this stature; raise the mass";
+    m << "leg (stature " << p.stature << " m, mass " << p.mass << " kg): the knee and ankle girths ("
+      << section.girth(z_patella) << " m, " << section.girth(b.z_dist)
+      << " m) are too small for bones of this stature; raise the mass";
     throw Error(m.str());
   }
-  const ScalarField lower_field = [&](const Vec3& x) {
+  return b;
+}
+
+// The upper bone: the femur's shaft, head and condyles.
+ScalarField femur_field(const LegDimensions& d, const LegFrame& f, const BoneLayout& b) {
+  return [&d, f, b](const Vec3& x) {
+    const double ls = f.ls, z_knee = f.z_knee, z_top = f.z_top;
+    const double shaft = capsule_field(x, Vec3(0, 0, z_knee + 0.06 * ls), Vec3(0, 0, z_top - 0.07 * ls), b.rf);
+    const double head = ellipsoid_field(x, Vec3(-0.005 * ls, 0, z_top - 0.06 * ls), Vec3(0.022, 0.028, 0.035) * ls);
+    const double condyles = ellipsoid_field(x, Vec3(0, 0, z_knee + 0.028 * ls),
+                                            Vec3(b.condyle_ap, 0.5 * d.femur_bicondylar_breadth * ls, 0.024 * ls));
+    return smooth_min(smooth_min(shaft, head, 0.02 * ls), condyles, 0.02 * ls);
+  };
+}
+
+// The lower bone: tibia, fibula, the foot's talus and metatarsals, and the
+// knee cap.
+ScalarField lower_bone_field(const LegDimensions& d, const LegFrame& f, const BoneLayout& b) {
+  return [&d, f, b](const Vec3& x) {
+    const double ls = f.ls, z_knee = f.z_knee, z_ankle = f.z_ankle, L = f.L, B = f.B, x_heel = f.x_heel;
     const double k = 0.01 * ls;
     const double plateau = ellipsoid_field(x, Vec3(0, 0, z_knee - 0.026 * ls),
                                            Vec3(0.028 * ls, 0.5 * d.tibia_plateau_breadth * ls, 0.02 * ls));
-    const double shaft = capsule_field(x, Vec3(0, 0, z_knee - 0.03 * ls), Vec3(0, 0, z_ankle + 0.03 * ls), rt);
+    const double shaft = capsule_field(x, Vec3(0, 0, z_knee - 0.03 * ls), Vec3(0, 0, z_ankle + 0.03 * ls), b.rt);
     const double distal =
-        ellipsoid_field(x, Vec3(0, -0.004 * ls, z_dist), Vec3(0.020 * ls, distal_y, 0.018 * ls));
+        ellipsoid_field(x, Vec3(0, -0.004 * ls, b.z_dist), Vec3(0.020 * ls, b.distal_y, 0.018 * ls));
     const double fibula = capsule_field(x, Vec3(-0.008 * ls, 0.028 * ls, z_knee - 0.035 * ls),
-                                        Vec3(-0.008 * ls, y_fib, z_fib), rfib);
+                                        Vec3(-0.008 * ls, b.y_fib, b.z_fib), b.rfib);
     const double talus = ellipsoid_field(x, Vec3(x_heel + 0.20 * L, 0, 0.13 * L), Vec3(0.16 * L, 0.22 * B, 0.09 * L));
     const double metatarsals =
         ellipsoid_field(x, Vec3(x_heel + 0.58 * L, 0, 0.075 * L), Vec3(0.25 * L, 0.30 * B, 0.04 * L));
     const double patella = ellipsoid_field(
-        x, patella_centre, Vec3(0.5 * d.patella_thickness, 0.5 * d.patella_width, 0.5 * d.patella_height) * ls);
-    double f = smooth_min(plateau, shaft, k);
-    f = smooth_min(f, fibula, k);
-    f = smooth_min(f, distal, 1.5 * k);
-    f = smooth_min(f, talus, 1.5 * k);
-    f = smooth_min(f, metatarsals, k);
-    return std::min(f, patella);  // the knee cap: its own piece of the same rigid body
+        x, b.patella_centre, Vec3(0.5 * d.patella_thickness, 0.5 * d.patella_width, 0.5 * d.patella_height) * ls);
+    double v = smooth_min(plateau, shaft, k);
+    v = smooth_min(v, fibula, k);
+    v = smooth_min(v, distal, 1.5 * k);
+    v = smooth_min(v, talus, 1.5 * k);
+    v = smooth_min(v, metatarsals, k);
+    return std::min(v, patella);  // the knee cap: its own piece of the same rigid body
   };
+}
 
-  // ---- Muscles: spindles lofted from the thigh's sections. ---------------
-  // At height z a muscle's section is an ellipse placed and sized as fractions
-  // of the skin's section there (centre at cx + u a, semi-axes (p a, q b)),
-  // tapered along the thigh like an ellipsoid between z_lo and z_hi - so it
-  // stays inside the skin and off the other muscle for any body.
-  struct Spindle {
-    double u, p, q, z_lo, z_hi;
-  };
-  const Spindle front{0.45, 0.30, 0.55, z_knee + 0.16 * T, z_knee + 0.90 * T};
-  const Spindle back{-0.45, 0.32, 0.58, z_knee + 0.14 * T, z_knee + 0.86 * T};
-  auto spindle_field = [&](const Spindle& m, const Vec3& x) {
+// ---- Muscles: spindles lofted from the thigh's sections. -----------------
+// At height z a muscle's section is an ellipse placed and sized as fractions
+// of the skin's section there (centre at cx + u a, semi-axes (p a, q b)),
+// tapered along the thigh like an ellipsoid between z_lo and z_hi - so it
+// stays inside the skin and off the other muscle for any body.
+struct Spindle {
+  double u, p, q, z_lo, z_hi;
+};
+
+Spindle front_spindle(const LegFrame& f) { return {0.45, 0.30, 0.55, f.z_knee + 0.16 * f.T, f.z_knee + 0.90 * f.T}; }
+Spindle back_spindle(const LegFrame& f) { return {-0.45, 0.32, 0.58, f.z_knee + 0.14 * f.T, f.z_knee + 0.86 * f.T}; }
+
+// The muscle's field.
+ScalarField spindle_field(const ThighSections& section, const Spindle& m) {
+  return [&section, m](const Vec3& x) {
     double cx, a, b;
     section(x.z(), cx, a, b);
     const double zc = 0.5 * (m.z_lo + m.z_hi), hz = 0.5 * (m.z_hi - m.z_lo);
@@ -211,41 +276,45 @@ LegGeometry make_leg(const LegParameters& p) {
             1.0) *
            std::min(A, Bm);
   };
-  auto muscle_x = [&](const Spindle& m, double z) {
-    double cx, a, b;
-    section(z, cx, a, b);
-    return cx + m.u * a;
-  };
-  const ScalarField front_field = [&](const Vec3& x) { return spindle_field(front, x); };
-  const ScalarField back_field = [&](const Vec3& x) { return spindle_field(back, x); };
+}
 
-  // ---- Surfaces. ---------------------------------------------------------
-  const double margin = 0.03 * ls;
-  const double half_width = std::max({0.5 * d.upper_thigh_girth * gs / kPi, 0.6 * B, 0.06 * ls}) + margin;
+// The muscle's centre line at height z (x; y = 0).
+double muscle_x(const ThighSections& section, const Spindle& m, double z) {
+  double cx, a, b;
+  section(z, cx, a, b);
+  return cx + m.u * a;
+}
+
+// ---- Surfaces. -------------------------------------------------------------
+
+// The box the surfaces are meshed in, with the skin's cell size.
+ImplicitMeshOptions surface_box(const LegParameters& p, const LegFrame& f) {
+  const double margin = 0.03 * f.ls;
+  const double half_width =
+      std::max({0.5 * p.dims.upper_thigh_girth * f.gs / kPi, 0.6 * f.B, 0.06 * f.ls}) + margin;
   ImplicitMeshOptions o;
   o.cell = p.skin_cell;
-  o.lo = Vec3(x_heel - half_width, -half_width, -margin);
-  o.hi = Vec3(x_heel + L + margin, half_width, z_top + margin);
+  o.lo = Vec3(f.x_heel - half_width, -half_width, -margin);
+  o.hi = Vec3(f.x_heel + f.L + margin, half_width, f.z_top + margin);
   o.lo.x() = std::min(o.lo.x(), -half_width);
   o.hi.x() = std::max(o.hi.x(), half_width);
-  leg.skin = mesh_implicit_surface(skin_field, o);
-  o.cell = 0.5 * p.skin_cell;
-  leg.upper_bone = mesh_implicit_surface(femur_field, o);
-  leg.lower_bone = mesh_implicit_surface(lower_field, o);
-  leg.front_muscle = mesh_implicit_surface(front_field, o);
-  leg.back_muscle = mesh_implicit_surface(back_field, o);
+  return o;
+}
 
-  // ---- Tendon paths (muscle end first), strands as in thesis 4.5. --------
-  // The hamstrings' lower tendon passes 3.3 cm (scaled by girth) behind the
-  // knee's centre, near the straight line from muscle to insertion: with a
-  // deeper bow (4.5 cm) the taut tendon cut through the soft flesh behind the
-  // knee instead of turning the lower bone, and the activated back muscle
-  // flexed the knee no further than about 40 degrees (issue 6, measured).
-  // The quadriceps' tendon ends on the knee cap, which is part of the lower
-  // bone here: the patellar tendon is rigid. Routed on past the knee cap to
-  // the tibia, the tendon wrapped over the front of the knee through the
-  // flesh, and in a flexed knee its pull dragged that flesh through the
-  // femur's condyles (the leg blew up at 70-90 degrees, issue 6, measured).
+// ---- Tendon paths (muscle end first), strands as in thesis 4.5. ----------
+// The hamstrings' lower tendon passes 3.3 cm (scaled by girth) behind the
+// knee's centre, near the straight line from muscle to insertion: with a
+// deeper bow (4.5 cm) the taut tendon cut through the soft flesh behind the
+// knee instead of turning the lower bone, and the activated back muscle
+// flexed the knee no further than about 40 degrees (issue 6, measured).
+// The quadriceps' tendon ends on the knee cap, which is part of the lower
+// bone here: the patellar tendon is rigid. Routed on past the knee cap to
+// the tibia, the tendon wrapped over the front of the knee through the
+// flesh, and in a flexed knee its pull dragged that flesh through the
+// femur's condyles (the leg blew up at 70-90 degrees, issue 6, measured).
+std::vector<TendonPathSpec> leg_tendons(const LegFrame& f, const ThighSections& section, const Spindle& front,
+                                        const Spindle& back, const Vec3& patella_centre) {
+  const double ls = f.ls, gs = f.gs, z_knee = f.z_knee, z_top = f.z_top, T = f.T;
   auto tendon = [](const char* name, int muscle, int bone, int strands, std::vector<Vec3> path) {
     TendonPathSpec t;
     t.name = name;
@@ -255,19 +324,22 @@ LegGeometry make_leg(const LegParameters& p) {
     t.path = std::move(path);
     return t;
   };
-  leg.tendons = {
+  auto mx = [&](const Spindle& m, double z) { return muscle_x(section, m, z); };
+  return {
       tendon("back_upper", kBackMuscle, kUpperBone, 8,
-             {Vec3(muscle_x(back, z_knee + 0.84 * T), 0, z_knee + 0.84 * T), Vec3(-0.012 * ls, 0, z_top - 0.06 * ls)}),
+             {Vec3(mx(back, z_knee + 0.84 * T), 0, z_knee + 0.84 * T), Vec3(-0.012 * ls, 0, z_top - 0.06 * ls)}),
       tendon("back_lower", kBackMuscle, kLowerBone, 6,
-             {Vec3(muscle_x(back, z_knee + 0.16 * T), 0, z_knee + 0.16 * T), Vec3(-0.033 * gs, 0, z_knee),
+             {Vec3(mx(back, z_knee + 0.16 * T), 0, z_knee + 0.16 * T), Vec3(-0.033 * gs, 0, z_knee),
               Vec3(-0.008 * ls, 0, z_knee - 0.05 * ls)}),
       tendon("front_upper", kFrontMuscle, kUpperBone, 6,
-             {Vec3(muscle_x(front, z_knee + 0.88 * T), 0, z_knee + 0.88 * T), Vec3(0.012 * ls, 0, z_top - 0.07 * ls)}),
+             {Vec3(mx(front, z_knee + 0.88 * T), 0, z_knee + 0.88 * T), Vec3(0.012 * ls, 0, z_top - 0.07 * ls)}),
       tendon("front_lower", kFrontMuscle, kLowerBone, 6,
-             {Vec3(muscle_x(front, z_knee + 0.18 * T), 0, z_knee + 0.18 * T), patella_centre}),
+             {Vec3(mx(front, z_knee + 0.18 * T), 0, z_knee + 0.18 * T), patella_centre}),
   };
+}
 
-
+// The surfaces checked as a limb (validate_limb), named after this body.
+void validate_leg(const LegGeometry& leg, const LegParameters& p) {
   LimbSurfaces check;
   check.skin = leg.skin;
   check.inner = {{kUpperBone, leg.upper_bone},
@@ -279,6 +351,39 @@ LegGeometry make_leg(const LegParameters& p) {
   for (int r : {kPassiveTissue, kUpperBone, kLowerBone, kFrontMuscle, kBackMuscle})
     check.source[r] = who.str();
   validate_limb(check);
+}
+
+}  // namespace
+
+LegGeometry make_leg(const LegParameters& p) {
+  require_range(p.stature, 1.2, 2.3, "stature (m)");
+  require_range(p.mass, 30.0, 200.0, "mass (kg)");
+  require_range(p.skin_cell, 0.002, 0.03, "skin_cell (m)");
+  const LegDimensions& d = p.dims;
+  const LegFrame f = leg_frame(p);
+
+  LegGeometry leg;
+  leg.girth_scale = f.gs;
+  leg.hip_height = f.z_top;
+  leg.knee_height = f.z_knee;
+  leg.ankle_height = f.z_ankle;
+  leg.foot_length = f.L;
+  leg.knee_centre = Vec3(0.0, 0.0, f.z_knee);
+
+  const ThighSections section(d, f);
+  const BoneLayout bones = place_bones(p, f, section);
+  const Spindle front = front_spindle(f), back = back_spindle(f);
+
+  ImplicitMeshOptions o = surface_box(p, f);
+  leg.skin = mesh_implicit_surface(skin_field(f, section), o);
+  o.cell = 0.5 * p.skin_cell;
+  leg.upper_bone = mesh_implicit_surface(femur_field(d, f, bones), o);
+  leg.lower_bone = mesh_implicit_surface(lower_bone_field(d, f, bones), o);
+  leg.front_muscle = mesh_implicit_surface(spindle_field(section, front), o);
+  leg.back_muscle = mesh_implicit_surface(spindle_field(section, back), o);
+
+  leg.tendons = leg_tendons(f, section, front, back, bones.patella_centre);
+  validate_leg(leg, p);
   return leg;
 }
 

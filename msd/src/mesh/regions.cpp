@@ -39,15 +39,11 @@ bool one_thick(const CubicGrid& g, long id, In in) {
   return false;
 }
 
-}  // namespace
+using Members = std::map<int, std::vector<char>>;
 
-RegionLabelling label_regions(const CubicGrid& grid, const std::vector<char>& skin,
-                              const std::vector<RegionCubes>& inner) {
-  const long n = grid.num_cubes();
-  if (static_cast<long>(skin.size()) != n)
-    throw Error("regions: the skin's cube array has " + std::to_string(skin.size()) + " entries, the grid " +
-                std::to_string(n) + " cubes");
-  RegionLabelling out;
+// Stage 1: the skin's cubes become passive tissue, the rest stays outside (-1).
+void label_skin(const std::vector<char>& skin, RegionLabelling& out) {
+  const long n = static_cast<long>(skin.size());
   out.label.assign(static_cast<size_t>(n), -1);
   long skin_cubes = 0;
   for (long c = 0; c < n; ++c)
@@ -56,9 +52,12 @@ RegionLabelling label_regions(const CubicGrid& grid, const std::vector<char>& sk
       ++skin_cubes;
     }
   if (skin_cubes == 0) throw Error("regions: no cube lies inside the skin");
+}
 
-  // Stage 2: each region's cubes inside the skin.
-  std::map<int, std::vector<char>> member;
+// Stage 2: each region's cubes inside the skin.
+Members region_members(const std::vector<char>& skin, const std::vector<RegionCubes>& inner, RegionLabelling& out) {
+  const long n = static_cast<long>(skin.size());
+  Members member;
   for (const RegionCubes& r : inner) {
     if (!is_bone(r.region) && !is_muscle(r.region))
       throw Error("regions: region " + std::to_string(r.region) + " is not a muscle or a bone");
@@ -72,10 +71,14 @@ RegionLabelling label_regions(const CubicGrid& grid, const std::vector<char>& sk
     for (char v : m) count += v ? 1 : 0;
     out.cubes_before[r.region] = count;
   }
+  return member;
+}
 
-  // Stage 3: overlaps. A cube claimed by a bone and a muscle goes to the muscle
-  // unless the bone is one cube thick there; claimed by both bones or both
-  // muscles it becomes passive tissue.
+// Stage 3: overlaps. A cube claimed by a bone and a muscle goes to the muscle
+// unless the bone is one cube thick there; claimed by both bones or both
+// muscles it becomes passive tissue.
+void resolve_overlaps(const CubicGrid& grid, const std::vector<char>& skin, Members& member, RegionLabelling& out) {
+  const long n = grid.num_cubes();
   auto& label = out.label;
   for (long c = 0; c < n; ++c) {
     if (!skin[static_cast<size_t>(c)]) continue;
@@ -103,13 +106,19 @@ RegionLabelling label_regions(const CubicGrid& grid, const std::vector<char>& sk
     out.eroded_bone_cubes += static_cast<long>(bones.size());
     out.eroded_muscle_cubes += static_cast<long>(muscles.size());
   }
+}
 
-  // Stage 4: separation, until nothing changes.
-  auto count_of = [&](int r) {
-    long k = 0;
-    for (int l : label) k += l == r ? 1 : 0;
-    return k;
-  };
+// The number of cubes labelled r.
+long count_of(const std::vector<int>& label, int r) {
+  long k = 0;
+  for (int l : label) k += l == r ? 1 : 0;
+  return k;
+}
+
+// Stage 4: separation, until nothing changes.
+void separate_regions(const CubicGrid& grid, RegionLabelling& out) {
+  const long n = grid.num_cubes();
+  auto& label = out.label;
   auto erode = [&](long c) {
     (is_bone(label[static_cast<size_t>(c)]) ? out.eroded_bone_cubes : out.eroded_muscle_cubes) += 1;
     label[static_cast<size_t>(c)] = kPassiveTissue;
@@ -148,17 +157,20 @@ RegionLabelling label_regions(const CubicGrid& grid, const std::vector<char>& sk
             } else if (is_bone(a)) {
               victim = (thin_now(c) && !thin_now(d)) ? d : c;
             } else {
-              victim = count_of(b) > count_of(a) ? d : c;
+              victim = count_of(label, b) > count_of(label, a) ? d : c;
             }
             erode(victim);
             changed = true;
           }
     }
   }
+}
 
-  // Bone points: where a bone's cubes vanished with no cube of that bone left
-  // around them, the nodes of those cubes (unless another internal region's
-  // cube uses the node, and only nodes of the tissue mesh).
+// Bone points: where a bone's cubes vanished with no cube of that bone left
+// around them, the nodes of those cubes (unless another internal region's
+// cube uses the node, and only nodes of the tissue mesh).
+std::vector<BonePoint> bone_points(const CubicGrid& grid, const Members& member, const std::vector<int>& label) {
+  const long n = grid.num_cubes();
   std::set<std::pair<long, int>> points;
   for (const auto& [r, m] : member) {
     if (!is_bone(r)) continue;
@@ -185,11 +197,28 @@ RegionLabelling label_regions(const CubicGrid& grid, const std::vector<char>& sk
       }
     }
   }
+  std::vector<BonePoint> out;
   std::set<long> taken;
   for (const auto& [node, r] : points)
-    if (taken.insert(node).second) out.bone_points.push_back({node, r});
+    if (taken.insert(node).second) out.push_back({node, r});
+  return out;
+}
 
-  for (const auto& [r, m] : member) out.cubes_after[r] = count_of(r);
+}  // namespace
+
+RegionLabelling label_regions(const CubicGrid& grid, const std::vector<char>& skin,
+                              const std::vector<RegionCubes>& inner) {
+  const long n = grid.num_cubes();
+  if (static_cast<long>(skin.size()) != n)
+    throw Error("regions: the skin's cube array has " + std::to_string(skin.size()) + " entries, the grid " +
+                std::to_string(n) + " cubes");
+  RegionLabelling out;
+  label_skin(skin, out);
+  Members member = region_members(skin, inner, out);
+  resolve_overlaps(grid, skin, member, out);
+  separate_regions(grid, out);
+  out.bone_points = bone_points(grid, member, out.label);
+  for (const auto& [r, m] : member) out.cubes_after[r] = count_of(out.label, r);
   return out;
 }
 

@@ -9,11 +9,11 @@
 
 namespace msd {
 
-LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& tendons, const LegModelOptions& o) {
-  check_material(o.passive, "leg: passive tissue");
-  check_material(o.muscle, "leg: muscle");
-  LegModel leg;
-  // Which bone holds each node: its tets' nodes and its bone points.
+namespace {
+
+// Which bone holds each node (1 femur, 2 lower bone, 0 free): its tets' nodes
+// and its bone points; the femur's and the lower bone's node lists.
+void attach_bone_nodes(const LimbMesh& m, LegModel& leg) {
   const int n = m.mesh.num_nodes();
   leg.attached.assign(static_cast<size_t>(n), 0);
   for (size_t e = 0; e < m.mesh.tets.size(); ++e)
@@ -26,10 +26,15 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
     if (leg.attached[static_cast<size_t>(i)] == 1) leg.femur_nodes.push_back(i);
     if (leg.attached[static_cast<size_t>(i)] == 2) leg.lower_nodes.push_back(i);
   }
-  // The joint space: a tet with nodes on both bones would be crushed by any
-  // rotation of one about the other (the cubic mesh leaves a single cube of
-  // passive tissue between condyles and plateau), so it is left out - no
-  // tissue joins the two bones directly.
+}
+
+// The tissue's tets without the joint space: a tet with nodes on both bones
+// would be crushed by any rotation of one about the other (the cubic mesh
+// leaves a single cube of passive tissue between condyles and plateau), so it
+// is left out - no tissue joins the two bones directly. Counts the tets left
+// out in leg.joint_space_tets.
+TetMesh tissue_without_joint_space(const LimbMesh& m, const LegModelOptions& o, LegModel& leg) {
+  const int n = m.mesh.num_nodes();
   TetMesh tissue_mesh = m.mesh;
   tissue_mesh.tets.clear();
   tissue_mesh.region.clear();
@@ -65,21 +70,25 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
     tissue_mesh.region.push_back(m.mesh.region[e]);
   }
   // A squeezed tet stays if leaving it out would leave a node in no tet.
-  {
-    std::vector<int> uses(static_cast<size_t>(n), 0);
-    for (const Tet& t : tissue_mesh.tets)
+  std::vector<int> uses(static_cast<size_t>(n), 0);
+  for (const Tet& t : tissue_mesh.tets)
+    for (int v : t) ++uses[static_cast<size_t>(v)];
+  for (size_t e : squeezed_tets) {
+    const Tet& t = m.mesh.tets[e];
+    if (std::any_of(t.begin(), t.end(), [&](int v) { return uses[static_cast<size_t>(v)] == 0; })) {
+      tissue_mesh.tets.push_back(t);
+      tissue_mesh.region.push_back(m.mesh.region[e]);
       for (int v : t) ++uses[static_cast<size_t>(v)];
-    for (size_t e : squeezed_tets) {
-      const Tet& t = m.mesh.tets[e];
-      if (std::any_of(t.begin(), t.end(), [&](int v) { return uses[static_cast<size_t>(v)] == 0; })) {
-        tissue_mesh.tets.push_back(t);
-        tissue_mesh.region.push_back(m.mesh.region[e]);
-        for (int v : t) ++uses[static_cast<size_t>(v)];
-      } else {
-        ++leg.joint_space_tets;
-      }
+    } else {
+      ++leg.joint_space_tets;
     }
   }
+  return tissue_mesh;
+}
+
+// The tissue model of the leg's tets: the scene's force terms, one material
+// per region label.
+Model tissue_model(const TetMesh& tissue_mesh, const LegModelOptions& o) {
   ModelOptions mo;
   mo.terms = o.terms;
   mo.nonlinear_threshold = o.nonlinear_threshold;
@@ -87,8 +96,13 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
   // Region labels 0..4: passive, front and back muscle, the bones (their tets
   // move rigidly; any material will do, passive tissue's is used).
   mo.region_materials = {o.passive, o.muscle, o.muscle, o.passive, o.passive};
-  leg.tissue = build_model(tissue_mesh, mo);
+  return build_model(tissue_mesh, mo);
+}
 
+// The knee hinge and the lower bone (thesis 5.4): the bone's mass properties
+// and the hinge's moment of inertia, I = the bone's moment about the axis +
+// sum of the lower-bone nodes' m r^2.
+void build_knee(const LimbMesh& m, const LegModelOptions& o, LegModel& leg) {
   if (leg.femur_nodes.empty()) throw Error("leg: the upper bone has no tets or bone points in the mesh");
   if (leg.lower_nodes.empty()) throw Error("leg: the lower bone has no tets or bone points in the mesh");
 
@@ -108,7 +122,11 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
   }
   leg.knee.inertia = inertia;
   check_hinge(leg.knee);
+}
 
+// The tendons' strands (thesis 5.3): bone ends anchored at the insertions
+// where given, natural lengths at rest, stiffness from each tendon's modulus.
+void build_strands(const std::vector<TendonStrands>& tendons, const LegModelOptions& o, LegModel& leg) {
   if (!o.tendon_insertions.empty() && o.tendon_insertions.size() != tendons.size())
     throw Error("leg: " + std::to_string(o.tendon_insertions.size()) + " tendon insertions for " +
                 std::to_string(tendons.size()) + " tendons");
@@ -139,10 +157,13 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
       leg.strands.push_back(ls);
     }
   }
-  leg.tets = tissue_mesh.tets;
-  // The skin: the limb's outer boundary faces (the joint space's hole has
-  // boundary faces too, inside the knee, that no skin touches).
-  std::vector<Tri> skin_faces;
+}
+
+// The skin: the limb's outer boundary faces (the joint space's hole has
+// boundary faces too, inside the knee, that no skin touches). Empty when no
+// contact needs it.
+std::vector<Tri> skin_faces(const LimbMesh& m, const TetMesh& tissue_mesh, const LegModelOptions& o) {
+  std::vector<Tri> faces;
   if (o.knee_contact_box || !o.obstacles.empty()) {
     auto key = [](Tri f) {
       std::sort(f.begin(), f.end());
@@ -151,11 +172,18 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
     std::set<Tri> outer;
     for (const Tri& f : boundary_faces(m.mesh.tets)) outer.insert(key(f));
     for (const Tri& f : boundary_faces(tissue_mesh.tets))
-      if (outer.count(key(f))) skin_faces.push_back(f);
+      if (outer.count(key(f))) faces.push_back(f);
   }
+  return faces;
+}
+
+// Skin against skin behind the knee (thesis 5.6): the region in the scene's
+// box and its largest correction.
+void build_knee_contact(const LimbMesh& m, const TetMesh& tissue_mesh, const std::vector<Tri>& skin,
+                        const LegModelOptions& o, LegModel& leg) {
   if (o.knee_contact_box)
     leg.knee_contact = make_self_contact_region(tissue_mesh, "behind the knee", o.knee_contact_box->first,
-                                                o.knee_contact_box->second, o.knee_centre, o.leg_axis, skin_faces);
+                                                o.knee_contact_box->second, o.knee_centre, o.leg_axis, skin);
   if (leg.knee_contact) {
     // Half the mean edge of the region's tets: skin passes skin by less than
     // that in one step; anything deeper is a node caught across the split.
@@ -170,34 +198,47 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
         }
     if (count) leg.knee_contact->max_correction = 0.5 * sum / static_cast<double>(count);
   }
-  if (!o.obstacles.empty()) {
-    std::vector<char> on_surface(static_cast<size_t>(n), 0);
-    for (const Tri& t : skin_faces)
-      for (int v : t) on_surface[static_cast<size_t>(v)] = 1;
-    for (size_t k = 0; k < o.obstacles.size(); ++k) {
-      RigidObstacle ob = o.obstacles[k].object;
-      const std::string where = "leg: obstacle '" + ob.name + "'";
-      check_obstacle(ob, where);
-      ob.nodes.clear();
-      for (int i = 0; i < n; ++i) {
-        if (!on_surface[static_cast<size_t>(i)] || leg.attached[static_cast<size_t>(i)]) continue;
-        const Vec3 x = m.mesh.nodes.col(i);
-        if (o.obstacles[k].box) {
-          const auto& [lo, hi] = *o.obstacles[k].box;
-          if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any()) continue;
-        }
-        ob.nodes.push_back(i);
+}
+
+// Rigid external objects (thesis 5.6, 6.3, 6.7): each with the free surface
+// nodes in its box.
+void build_obstacles(const LimbMesh& m, const std::vector<Tri>& skin, const LegModelOptions& o, LegModel& leg) {
+  if (o.obstacles.empty()) return;
+  const int n = m.mesh.num_nodes();
+  std::vector<char> on_surface(static_cast<size_t>(n), 0);
+  for (const Tri& t : skin)
+    for (int v : t) on_surface[static_cast<size_t>(v)] = 1;
+  for (size_t k = 0; k < o.obstacles.size(); ++k) {
+    RigidObstacle ob = o.obstacles[k].object;
+    const std::string where = "leg: obstacle '" + ob.name + "'";
+    check_obstacle(ob, where);
+    ob.nodes.clear();
+    for (int i = 0; i < n; ++i) {
+      if (!on_surface[static_cast<size_t>(i)] || leg.attached[static_cast<size_t>(i)]) continue;
+      const Vec3 x = m.mesh.nodes.col(i);
+      if (o.obstacles[k].box) {
+        const auto& [lo, hi] = *o.obstacles[k].box;
+        if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any()) continue;
       }
-      if (ob.nodes.empty()) throw Error(where + ": no free surface node of the leg lies in its box");
-      leg.obstacles.push_back(ob);
+      ob.nodes.push_back(i);
     }
+    if (ob.nodes.empty()) throw Error(where + ": no free surface node of the leg lies in its box");
+    leg.obstacles.push_back(ob);
   }
+}
+
+// The muscles' contractile units and their force per unit at activation 1
+// (thesis 5.2.7).
+void build_muscles(const LimbMesh& m, const LegModelOptions& o, LegModel& leg) {
   leg.front_units = contractile_units(m.mesh, kFrontMuscle, o.front_line, o.unit_angle_deg);
   leg.back_units = contractile_units(m.mesh, kBackMuscle, o.back_line, o.unit_angle_deg);
   leg.front_unit_force = unit_force(m.mesh, kFrontMuscle, leg.front_units, o.front_line, 1.0, o.max_muscle_stress);
   leg.back_unit_force = unit_force(m.mesh, kBackMuscle, leg.back_units, o.back_line, 1.0, o.max_muscle_stress);
   leg.force_length = o.force_length;
-  leg.leg_axis = o.leg_axis.normalized();
+}
+
+// The knee's passive structures: joint damping and the end-range stiffness.
+void set_passive_joint(const LegModelOptions& o, LegModel& leg) {
   if (!(o.joint_damping >= 0.0) || !(o.limit_stiffness >= 0.0))
     throw Error("leg: the knee's joint damping and limit stiffness must be >= 0");
   if (!(o.passive_lo <= o.passive_hi)) throw Error("leg: the knee's passive range must have passive_lo <= passive_hi");
@@ -205,6 +246,26 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
   leg.limit_stiffness = o.limit_stiffness;
   leg.passive_lo = o.passive_lo;
   leg.passive_hi = o.passive_hi;
+}
+
+}  // namespace
+
+LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& tendons, const LegModelOptions& o) {
+  check_material(o.passive, "leg: passive tissue");
+  check_material(o.muscle, "leg: muscle");
+  LegModel leg;
+  attach_bone_nodes(m, leg);
+  const TetMesh tissue_mesh = tissue_without_joint_space(m, o, leg);
+  leg.tissue = tissue_model(tissue_mesh, o);
+  build_knee(m, o, leg);
+  build_strands(tendons, o, leg);
+  leg.tets = tissue_mesh.tets;
+  const std::vector<Tri> skin = skin_faces(m, tissue_mesh, o);
+  build_knee_contact(m, tissue_mesh, skin, o, leg);
+  build_obstacles(m, skin, o, leg);
+  build_muscles(m, o, leg);
+  leg.leg_axis = o.leg_axis.normalized();
+  set_passive_joint(o, leg);
   return leg;
 }
 
