@@ -1,5 +1,7 @@
 #include "msd/geometry/leg_generator.hpp"
 
+#include "msd/io/atomic_file.hpp"
+
 #include "msd/geometry/implicit_surface.hpp"
 #include "msd/mesh/limb_mesher.hpp"
 
@@ -405,11 +407,7 @@ LimbSurfaces read_leg_surfaces(const std::string& dir) {
 void write_leg(const LegGeometry& leg, const LegParameters& p, double spacing, const std::string& dir) {
   namespace fs = std::filesystem;
   fs::create_directories(dir);
-  auto put = [&](const std::string& name, const TriangleMesh& m) {
-    const fs::path path = fs::path(dir) / name;
-    write_obj(path.string() + ".partial", m);
-    fs::rename(path.string() + ".partial", path);
-  };
+  auto put = [&](const std::string& name, const TriangleMesh& m) { write_obj((fs::path(dir) / name).string(), m); };
   put("skin.obj", leg.skin);
   put("upper_bone.obj", leg.upper_bone);
   put("lower_bone.obj", leg.lower_bone);
@@ -439,13 +437,7 @@ void write_leg(const LegGeometry& leg, const LegParameters& p, double spacing, c
       y << (k ? ", " : "") << "[" << t.path[k].x() << ", " << t.path[k].y() << ", " << t.path[k].z() << "]";
     y << "]}\n";
   }
-  const fs::path scene = fs::path(dir) / "leg.yaml";
-  {
-    std::ofstream out(scene.string() + ".partial");
-    out << y.str();
-    if (!out) throw Error(scene.string() + ": write failed");
-  }
-  fs::rename(scene.string() + ".partial", scene);
+  write_file_atomically((fs::path(dir) / "leg.yaml").string(), [&](std::ostream& out) { out << y.str(); });
 }
 
 MeshedLeg mesh_leg(const std::string& dir, const LimbMeshOptions& options, const LegParameters& params) {

@@ -138,14 +138,12 @@ TriangleMesh read_obj(const std::string& path) {
 }
 
 void write_obj(const std::string& path, const TriangleMesh& mesh) {
-  std::ofstream out(path);
-  if (!out) throw Error(path + ": cannot write OBJ file");
-  out << std::setprecision(17);
-  for (int i = 0; i < mesh.num_vertices(); ++i)
-    out << "v " << mesh.vertices(0, i) << ' ' << mesh.vertices(1, i) << ' ' << mesh.vertices(2, i)
-        << '\n';
-  for (const Tri& t : mesh.triangles) out << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
-  if (!out) throw Error(path + ": write failed");
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << std::setprecision(17);
+    for (int i = 0; i < mesh.num_vertices(); ++i)
+      out << "v " << mesh.vertices(0, i) << ' ' << mesh.vertices(1, i) << ' ' << mesh.vertices(2, i) << '\n';
+    for (const Tri& t : mesh.triangles) out << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+  });
 }
 
 void write_obj(const std::string& path, const Points& positions, const std::vector<Tri>& triangles, int decimals) {

@@ -61,7 +61,7 @@ TriangleMesh read_ply(const std::string& path);
 /// Reads a surface by its extension: .obj, .stl or .ply (case-insensitive).
 TriangleMesh read_surface(const std::string& path);
 
-/// Writes `mesh` as OBJ (vertices with 17 significant digits).
+/// Writes `mesh` as OBJ (vertices with 17 significant digits), whole or not at all.
 void write_obj(const std::string& path, const TriangleMesh& mesh);
 
 /// Writes `triangles` over the vertices `positions` (3 x V, e.g. a deformed
