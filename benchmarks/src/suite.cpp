@@ -217,55 +217,65 @@ VerificationRow verify(const Spec& spec, const std::string& file) {
   const fem::NeoHookean m = fem_material(spec);
   VerificationRow v;
   v.name = spec.name;
-  const std::string& t = spec.loading.type;
-  if (t == "uniaxial") {
-    v.quantity = "nominal stress (max error over the path / max stress)";
-    v.source = "closed form, homogeneous uni-axial stress";
-    double err = 0.0, scale = 0.0;
-    const auto& e = r.series.at("strain");
-    for (size_t i = 0; i < e.size(); ++i) {
-      const double c = neo_hookean_uniaxial(m.mu, m.kappa, e[i]).nominal_stress;
-      err = std::max(err, std::abs(r.series.at("nominal_stress")[i] - c));
-      scale = std::max(scale, std::abs(c));
+  switch (spec.loading.type) {
+    case Loading::Uniaxial: {
+      v.quantity = "nominal stress (max error over the path / max stress)";
+      v.source = "closed form, homogeneous uni-axial stress";
+      double err = 0.0, scale = 0.0;
+      const auto& e = r.series.at("strain");
+      for (size_t i = 0; i < e.size(); ++i) {
+        const double c = neo_hookean_uniaxial(m.mu, m.kappa, e[i]).nominal_stress;
+        err = std::max(err, std::abs(r.series.at("nominal_stress")[i] - c));
+        scale = std::max(scale, std::abs(c));
+      }
+      v.value = err;
+      v.reference = scale;
+      v.rel_error = err / scale;
+      break;
     }
-    v.value = err;
-    v.reference = scale;
-    v.rel_error = err / scale;
-  } else if (t == "simple_shear") {
-    v.quantity = "shear stress (max error / max stress)";
-    v.source = "closed form, sigma_xz = mu gamma";
-    double err = 0.0, scale = 0.0;
-    const auto& g = r.series.at("shear_strain");
-    for (size_t i = 0; i < g.size(); ++i) {
-      const double c = neo_hookean_simple_shear(m.mu, g[i])[0];
-      err = std::max(err, std::abs(r.series.at("shear_stress")[i] - c));
-      scale = std::max(scale, std::abs(c));
+    case Loading::SimpleShear: {
+      v.quantity = "shear stress (max error / max stress)";
+      v.source = "closed form, sigma_xz = mu gamma";
+      double err = 0.0, scale = 0.0;
+      const auto& g = r.series.at("shear_strain");
+      for (size_t i = 0; i < g.size(); ++i) {
+        const double c = neo_hookean_simple_shear(m.mu, g[i])[0];
+        err = std::max(err, std::abs(r.series.at("shear_stress")[i] - c));
+        scale = std::max(scale, std::abs(c));
+      }
+      v.value = err;
+      v.reference = scale;
+      v.rel_error = err / scale;
+      break;
     }
-    v.value = err;
-    v.reference = scale;
-    v.rel_error = err / scale;
-  } else if (t == "static") {
-    v.quantity = "self-weight sag of the free end, m";
-    v.source = "closed form, rho g L^2 / 2E (small strain)";
-    const double E = 9 * m.kappa * m.mu / (3 * m.kappa + m.mu), L = spec.geometry.size.z();
-    v.value = -r.series.at("tip_displacement_z").back();
-    v.reference = m.density * 9.81 * L * L / (2 * E);
-    v.rel_error = (v.value - v.reference) / v.reference;
-  } else if (t == "cooks_membrane") {
-    v.quantity = "vertical displacement of the loaded edge's mid-point (48, 52) mm, m";
-    v.source = "Pelteret & McBride 2016 (deal.II code gallery): converged 14.74 mm";
-    v.value = r.series.at("mid_edge_displacement").back();
-    v.reference = 14.74e-3;
-    v.rel_error = (v.value - v.reference) / v.reference;
-  } else if (t == "vibration") {
-    v.quantity = "first axial frequency, Hz";
-    v.source = "closed form, sqrt(E / rho) / 4L";
-    v.value = r.metrics.at("first_frequency");
-    const double E = 9 * m.kappa * m.mu / (3 * m.kappa + m.mu);
-    v.reference = bar_first_frequency(E, m.density, spec.geometry.size.z());
-    v.rel_error = (v.value - v.reference) / v.reference;
-  } else {
-    throw msd::Error(spec.path + ": no closed form for loading '" + t + "' in the suite's verification");
+    case Loading::Static: {
+      v.quantity = "self-weight sag of the free end, m";
+      v.source = "closed form, rho g L^2 / 2E (small strain)";
+      const double E = 9 * m.kappa * m.mu / (3 * m.kappa + m.mu), L = spec.geometry.size.z();
+      v.value = -r.series.at("tip_displacement_z").back();
+      v.reference = m.density * 9.81 * L * L / (2 * E);
+      v.rel_error = (v.value - v.reference) / v.reference;
+      break;
+    }
+    case Loading::CooksMembrane:
+      v.quantity = "vertical displacement of the loaded edge's mid-point (48, 52) mm, m";
+      v.source = "Pelteret & McBride 2016 (deal.II code gallery): converged 14.74 mm";
+      v.value = r.series.at("mid_edge_displacement").back();
+      v.reference = 14.74e-3;
+      v.rel_error = (v.value - v.reference) / v.reference;
+      break;
+    case Loading::Vibration: {
+      v.quantity = "first axial frequency, Hz";
+      v.source = "closed form, sqrt(E / rho) / 4L";
+      v.value = r.metrics.at("first_frequency");
+      const double E = 9 * m.kappa * m.mu / (3 * m.kappa + m.mu);
+      v.reference = bar_first_frequency(E, m.density, spec.geometry.size.z());
+      v.rel_error = (v.value - v.reference) / v.reference;
+      break;
+    }
+    case Loading::Indentation:
+      throw msd::Error(spec.path + ": no closed form for loading '" + loading_name(spec.loading.type) +
+                       "' in the suite's verification");
   }
   return v;
 }
@@ -321,7 +331,7 @@ int run_suite(const SuiteTier& tier, const SuiteOptions& o) {
     fem_of_text[j.fem.text] = fem_file;
     bj << (k ? ",\n" : "") << "    {\"name\": " << json_string(j.fem.name) << ", \"spec\": " << json_string(j.fem.path)
        << ", \"spec_sha256\": " << json_string(sha256_hex(j.fem.text)) << ", \"loading\": "
-       << json_string(j.fem.loading.type) << ", \"description\": " << json_string(j.fem.description)
+       << json_string(loading_name(j.fem.loading.type)) << ", \"description\": " << json_string(j.fem.description)
        << ", \"fem_file\": " << json_string(fs::relative(fem_file, dir).string()) << ", \"variants\": [";
     for (size_t v = 0; v < j.variants.size(); ++v) {
       const auto& [variant, spec] = j.variants[v];

@@ -191,7 +191,7 @@ std::vector<SweepPoint> sweep_points(const Spec& spec, const SweepGrid& g) {
             p.dt = d;
             pts.push_back(p);
           }
-        if (g.cvode && spec.loading.type != "indentation") {  // CVODE cannot integrate contact
+        if (g.cvode && spec.loading.type != Loading::Indentation) {  // CVODE cannot integrate contact
           SweepPoint p;
           p.spacing = h;
           p.terms = t;
