@@ -63,7 +63,7 @@ void print_fem_row(const bench::RunSummary& s) {
   else
     std::printf("%-28s %-4s %8d tets %9d nodes  %6ld steps %8.2f s  %s", s.name.c_str(), s.solver.c_str(), s.tets,
                 s.nodes, s.steps, s.wall_seconds, s.complete ? "complete" : "FAILED");
-  if (s.loading == "uniaxial" || s.loading == "simple_shear")
+  if (s.loading == bench::Loading::Uniaxial || s.loading == bench::Loading::SimpleShear)
     std::printf("  stress [%.4g, %.4g] Pa", s.min_stress, s.max_stress);
   if (s.min_volume_ratio < 1e299)
     std::printf("  V/V0 [%.4f, %.4f]", s.min_volume_ratio, s.max_volume_ratio);
@@ -73,7 +73,7 @@ void print_fem_row(const bench::RunSummary& s) {
 
 int report(const bench::Spec& spec, const bench::RunSummary& s) {
   if (!root()) return s.complete ? 0 : 1;
-  if (s.solver == "msd" && s.loading == "uniaxial") {
+  if (s.solver == "msd" && s.loading == bench::Loading::Uniaxial) {
     print_summary_header();
     print_summary_row(s);
   } else {
@@ -252,7 +252,7 @@ int cmd_stability(const StabilityArgs& args) {
                 spec.name.c_str(), spec.mesh ? spec.mesh->spacing : 0.0, bench::format_dt_searches(searches).c_str());
   if (!extremes.empty())
     std::printf("Extreme loads of %s (load: %s)\n%s", spec.name.c_str(),
-                spec.loading.type == "uniaxial" ? "nominal stress, Pa" : "-", bench::format_extremes(extremes).c_str());
+                spec.loading.type == bench::Loading::Uniaxial ? "nominal stress, Pa" : "-", bench::format_extremes(extremes).c_str());
   std::printf("stability: %s\n", json.c_str());
   return 0;
 }
@@ -422,8 +422,8 @@ int cmd_inspect(const InspectArgs& args) {
   std::printf("mesh          %ld cubes, %d tets, %d nodes, min quality %.3f\n", p.sample.cubes,
               p.model.num_elements(), p.model.num_nodes(), msd::min_quality(p.sample.mesh));
   std::printf("sample        size %g m, V0 = %g m^3, mass = %g kg, loading %s\n", p.size,
-              msd::total_volume(p.model.rest_positions, p.sample.mesh.tets), p.model.mass.sum(), p.loading.c_str());
-  if (p.loading == "uniaxial" || p.loading == "simple_shear")
+              msd::total_volume(p.model.rest_positions, p.sample.mesh.tets), p.model.mass.sum(), bench::loading_name(p.loading));
+  if (p.loading == bench::Loading::Uniaxial || p.loading == bench::Loading::SimpleShear)
     std::printf("platens       l0 = %g m, A0 = %g m^2\n", p.platens.length, p.platens.area);
   std::printf("terms         %s, threshold %s\n", msd::force_terms_to_string(p.model.terms).c_str(),
               p.model.nonlinear_threshold > 0 ? std::to_string(p.model.nonlinear_threshold).c_str() : "off");

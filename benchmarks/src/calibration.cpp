@@ -199,11 +199,18 @@ Minimum minimise(Fit& fit, Eigen::VectorXd& q, int budget) {
           lm.fnorm * lm.fnorm};
 }
 
+// What a calibration spec's MSD run is fitted to: the load curve (stage 1) or
+// the ring-down's damping ratio (stage 2).
 std::string load_series_of(const Spec& s) {
-  if (s.loading.type != "uniaxial" && s.loading.type != "simple_shear" && s.loading.type != "vibration")
-    throw msd::Error(s.path + ": calibration specs must be uniaxial or simple_shear (stage 1) or vibration (stage 2)");
-  if (s.loading.type == "vibration") return "damping_ratio";
-  return load_series_name(s.loading.type);
+  switch (s.loading.type) {
+    case Loading::Uniaxial:
+    case Loading::SimpleShear: return load_series_name(s.loading.type);
+    case Loading::Vibration: return "damping_ratio";
+    case Loading::CooksMembrane:
+    case Loading::Static:
+    case Loading::Indentation: break;
+  }
+  throw msd::Error(s.path + ": calibration specs must be uniaxial or simple_shear (stage 1) or vibration (stage 2)");
 }
 
 }  // namespace
@@ -235,7 +242,7 @@ CalibrationResult calibrate(const std::string& material, const std::vector<std::
     if (tg.ring_down && tg.spec.loading.initial != "preload")
       throw msd::Error(file + ": loading.initial: a ring-down calibration spec starts from a preload (an "
                               "equilibrium both solvers share)");
-    tg.volume = tg.spec.loading.type == "uniaxial" && volume_weight > 0.0;
+    tg.volume = tg.spec.loading.type == Loading::Uniaxial && volume_weight > 0.0;
     tg.volume_weight = volume_weight;
     targets.push_back(std::move(tg));
   }

@@ -14,12 +14,11 @@ namespace bench {
 
 namespace {
 
-std::string loading_of(const Results& r) {
-  const std::string test = r.meta.count("test") ? r.meta.at("test") : "";
-  for (const char* t : {"uniaxial", "simple_shear", "static", "vibration", "cooks_membrane", "indentation"})
-    if (test.rfind(t, 0) == 0) return t;
-  return "";
+std::optional<Loading> loading_of(const Results& r) {
+  return loading_of_test_label(r.meta.count("test") ? r.meta.at("test") : "");
 }
+
+std::string name_of(const std::optional<Loading>& loading) { return loading ? loading_name(*loading) : ""; }
 
 
 const std::vector<double>& series(const Results& r, const std::string& name, const std::string& file) {
@@ -30,14 +29,7 @@ const std::vector<double>& series(const Results& r, const std::string& name, con
 
 }  // namespace
 
-std::string load_series_name(const std::string& loading) {
-  if (loading == "uniaxial") return "nominal_stress";
-  if (loading == "simple_shear") return "shear_stress";
-  if (loading == "vibration") return "tip_displacement";
-  if (loading == "indentation") return "indentation_force";
-  if (loading == "static") return "tip_displacement_z";
-  return "";
-}
+std::string load_series_name(Loading loading) { return loading_info(loading).load_series; }
 
 Comparison compare_results(const std::string& msd_file, const std::string& fem_file, bool displacement_field) {
   const Results m = read_results(msd_file), f = read_results(fem_file);
@@ -49,25 +41,21 @@ Comparison compare_results(const std::string& msd_file, const std::string& fem_f
   }
   Comparison c;
   c.spec = m.meta.at("spec_name");
-  c.loading = loading_of(m);
-  if (c.loading.empty() || c.loading != loading_of(f))
-    throw msd::Error("compare: " + msd_file + " and " + fem_file + " are not the same test (" + loading_of(m) +
-                     " / " + loading_of(f) + ")");
+  const std::optional<Loading> loading = loading_of(m);
+  if (!loading || loading != loading_of(f))
+    throw msd::Error("compare: " + msd_file + " and " + fem_file + " are not the same test (" + name_of(loading) +
+                     " / " + name_of(loading_of(f)) + ")");
+  c.loading = *loading;
+  const LoadingInfo& info = loading_info(c.loading);
   if (m.meta.at("spec_name") != f.meta.at("spec_name"))
     throw msd::Error("compare: the files come from different specs (" + m.meta.at("spec_name") + ", " +
                      f.meta.at("spec_name") + ")");
 
   const auto& tm = series(m, "time", msd_file);
   const auto& tf = series(f, "time", fem_file);
-  std::string x_name;
-  c.load_series = load_series_name(c.loading);
-  if (c.loading == "uniaxial") {
-    c.units = "Pa";
-    x_name = "strain";
-  } else if (c.loading == "simple_shear") {
-    c.units = "Pa";
-    x_name = "shear_strain";
-  } else if (c.loading == "static") {
+  c.load_series = info.load_series;
+  c.units = info.load_units;
+  if (c.loading == Loading::Static) {
     // The tip displacement component the FEM moves most along.
     double best = -1.0;
     for (const char* k : {"tip_displacement_x", "tip_displacement_y", "tip_displacement_z"}) {
@@ -78,14 +66,8 @@ Comparison compare_results(const std::string& msd_file, const std::string& fem_f
         c.load_series = k;
       }
     }
-    c.units = "m";
-    x_name = "load_factor";
-  } else if (c.loading == "indentation") {
-    c.units = "N";
-    x_name = "depth";
-  } else {
-    c.units = "m";
   }
+  const std::string x_name = info.working_range ? info.strain_column : "";
   const auto& ym = series(m, c.load_series, msd_file);
   const auto& yf = series(f, c.load_series, fem_file);
   double sum_d = 0, sum_f = 0, sum_dw = 0, sum_fw = 0, max_d = 0;
@@ -101,8 +83,7 @@ Comparison compare_results(const std::string& msd_file, const std::string& fem_f
     sum_f += yf[i] * yf[i];
     max_d = std::max(max_d, std::abs(d));
     ++n;
-    if (!x_name.empty() && (c.loading == "uniaxial" || c.loading == "simple_shear") &&
-        std::abs(series(f, x_name, fem_file)[i]) <= 0.4 + 1e-12) {
+    if (!x_name.empty() && std::abs(series(f, x_name, fem_file)[i]) <= 0.4 + 1e-12) {
       sum_dw += d * d;
       sum_fw += yf[i] * yf[i];
       ++nw;
@@ -176,7 +157,7 @@ Comparison compare_results(const std::string& msd_file, const std::string& fem_f
   c.fem_cpu_cost = cost(f, "cpu_seconds");
   const bool cpu = c.msd_cpu_cost > 0.0 && c.fem_cpu_cost > 0.0;
   c.cost_ratio = cpu ? c.msd_cpu_cost / c.fem_cpu_cost : c.msd_cost / c.fem_cost;
-  if (c.loading == "vibration") {
+  if (info.ring_down) {
     auto metric = [](const Results& r, const char* k) {
       return r.metrics.count(k) ? r.metrics.at(k) : std::numeric_limits<double>::quiet_NaN();
     };
@@ -193,7 +174,7 @@ Comparison compare_results(const std::string& msd_file, const std::string& fem_f
 void write_comparison_json(const Comparison& c, const std::string& path) {
   std::ofstream out(path);
   if (!out) throw msd::Error(path + ": cannot write");
-  out << "{\n  \"spec\": " << json_string(c.spec) << ",\n  \"loading\": " << json_string(c.loading)
+  out << "{\n  \"spec\": " << json_string(c.spec) << ",\n  \"loading\": " << json_string(loading_name(c.loading))
       << ",\n  \"load_series\": " << json_string(c.load_series) << ",\n  \"units\": " << json_string(c.units)
       << ",\n  \"points\": " << c.points
       << ",\n  \"load_rms_fem\": " << json_number(c.load_rms_fem) << ",\n  \"load_rel_rms\": " << json_number(c.load_rel_rms)

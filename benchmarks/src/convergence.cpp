@@ -29,10 +29,17 @@ Spec refined_spec(const Spec& spec, int level, unsigned degree) {
 
 namespace {
 
-std::pair<std::string, std::string> quantity_of(const std::string& loading) {
-  if (loading == "uniaxial") return {"nominal_stress", "Pa"};
-  if (loading == "simple_shear") return {"shear_stress", "Pa"};
-  if (loading == "cooks_membrane") return {"tip_displacement", "m"};
+// The quantity a refinement study follows: the load curve, Cook's membrane's
+// tip displacement, else the first frequency.
+std::pair<std::string, std::string> quantity_of(Loading loading) {
+  switch (loading) {
+    case Loading::Uniaxial: return {"nominal_stress", "Pa"};
+    case Loading::SimpleShear: return {"shear_stress", "Pa"};
+    case Loading::CooksMembrane: return {"tip_displacement", "m"};
+    case Loading::Vibration:
+    case Loading::Static:
+    case Loading::Indentation: break;
+  }
   return {"first_frequency", "Hz"};
 }
 

@@ -14,10 +14,10 @@ namespace bench {
 const MsdSpec& msd_section(const Spec& spec) {
   if (!spec.msd || !spec.mesh)
     throw msd::Error(spec.path + ": the msd solver needs 'mesh' and 'msd' sections in the spec");
-  const std::string& t = spec.loading.type;
-  if (t == "cooks_membrane")
+  const Loading t = spec.loading.type;
+  if (t == Loading::CooksMembrane)
     throw msd::Error(spec.path + ": loading.type 'cooks_membrane' is a plane-strain benchmark for the fem solver only");
-  if (t == "simple_shear" && spec.loading.boundary != "platens")
+  if (t == Loading::SimpleShear && spec.loading.boundary != "platens")
     throw msd::Error(spec.path + ": loading.boundary 'homogeneous' is for the fem solver only (msd shears between platens)");
   return *spec.msd;
 }
@@ -75,7 +75,7 @@ MsdProblem compile_msd(const Spec& spec) {
   // Paths: strain (uniaxial), shear strain (simple_shear), load factor (static);
   // vibration holds its loads (gravity, if any) at factor 1.
   std::vector<std::pair<double, double>> path = l.path;
-  if (l.type == "vibration") {
+  if (l.type == Loading::Vibration) {
     // Load factor: gravity (if any) throughout; a preload ramps smoothly over
     // the first half of [0, release], holds, and is removed at the release.
     path = {{0.0, 1.0}, {l.release + l.duration, 1.0}};
@@ -93,55 +93,41 @@ MsdProblem compile_msd(const Spec& spec) {
   const msd::TetMesh& mesh = p.sample.mesh;
   const Eigen::Vector3d lo = mesh.nodes.rowwise().minCoeff(), hi = mesh.nodes.rowwise().maxCoeff();
   p.size = (hi - lo).maxCoeff();
-  if (l.type == "uniaxial") {
-    p.platens = msd::add_platens(mesh, msd::parse_platen_contact(l.platens), o);
-    p.columns = {{"time", "s"},        {"strain", "1"},         {"nominal_stress", "Pa"},
-                 {"volume_ratio", "1"}, {"inverted_elements", "1"}, {"lateral_force", "N"},
-                 {"kinetic_energy", "J"}, {"nonlinear_active_elements", "1"}};
-  } else if (l.type == "simple_shear") {
-    p.platens = msd::add_platens(mesh, msd::PlatenContact::Bonded, o);
-    p.columns = {{"time", "s"},          {"shear_strain", "1"},     {"shear_stress", "Pa"},
-                 {"normal_stress_zz", "Pa"}, {"volume_ratio", "1"}, {"inverted_elements", "1"},
-                 {"kinetic_energy", "J"}};
-  } else if (l.type == "static") {
-    p.clamp = msd::add_clamp(mesh, msd::parse_face(l.fixed), o);
-    if (!l.traction_face.empty())
-      o.external_force = msd::face_load(mesh, msd::face_nodes(mesh, msd::parse_face(l.traction_face)), l.traction);
-    p.columns = {{"time", "s"},
-                 {"load_factor", "1"},
-                 {"tip_displacement_x", "m"},
-                 {"tip_displacement_y", "m"},
-                 {"tip_displacement_z", "m"},
-                 {"reaction_force_x", "N"},
-                 {"reaction_force_y", "N"},
-                 {"reaction_force_z", "N"},
-                 {"volume_ratio", "1"},
-                 {"inverted_elements", "1"},
-                 {"kinetic_energy", "J"}};
-  } else if (l.type == "vibration") {
-    p.clamp = msd::add_clamp(mesh, msd::Face::Bottom, o);
-    if (l.initial == "preload")
-      o.external_force = msd::face_load(mesh, msd::face_nodes(mesh, msd::parse_face(l.traction_face)), l.traction);
-    p.columns = {{"time", "s"}, {"tip_displacement", "m"}, {"kinetic_energy", "J"}, {"volume_ratio", "1"},
-                 {"inverted_elements", "1"}};
-  } else if (l.type == "indentation") {
-    msd::IndenterOptions ind;
-    ind.radius = l.indenter_radius;
-    ind.axis = l.indenter_axis == "x" ? 0 : 1;
-    ind.max_depth = l.indenter_depth;
-    ind.response = msd::parse_contact_response(l.indenter_response);
-    p.indenter = msd::add_indenter(mesh, ind, o);
-    p.columns = {{"time", "s"},          {"depth", "m"},           {"indentation_force", "N"},
-                 {"contact_nodes", "1"}, {"base_reaction_z", "N"}, {"volume_ratio", "1"},
-                 {"inverted_elements", "1"}, {"kinetic_energy", "J"}};
-  } else {
-    throw msd::Error(spec.path + ": loading.type '" + l.type + "' is not supported by the msd solver");
+  switch (l.type) {
+    case Loading::Uniaxial:
+      p.platens = msd::add_platens(mesh, msd::parse_platen_contact(l.platens), o);
+      break;
+    case Loading::SimpleShear:
+      p.platens = msd::add_platens(mesh, msd::PlatenContact::Bonded, o);
+      break;
+    case Loading::Static:
+      p.clamp = msd::add_clamp(mesh, msd::parse_face(l.fixed), o);
+      if (!l.traction_face.empty())
+        o.external_force = msd::face_load(mesh, msd::face_nodes(mesh, msd::parse_face(l.traction_face)), l.traction);
+      break;
+    case Loading::Vibration:
+      p.clamp = msd::add_clamp(mesh, msd::Face::Bottom, o);
+      if (l.initial == "preload")
+        o.external_force = msd::face_load(mesh, msd::face_nodes(mesh, msd::parse_face(l.traction_face)), l.traction);
+      break;
+    case Loading::Indentation: {
+      msd::IndenterOptions ind;
+      ind.radius = l.indenter_radius;
+      ind.axis = l.indenter_axis == "x" ? 0 : 1;
+      ind.max_depth = l.indenter_depth;
+      ind.response = msd::parse_contact_response(l.indenter_response);
+      p.indenter = msd::add_indenter(mesh, ind, o);
+      break;
+    }
+    case Loading::CooksMembrane:
+      throw msd::Error(spec.path + ": loading.type '" + loading_name(l.type) + "' is not supported by the msd solver");
   }
+  p.columns = series_columns(l.type, Solver::Msd);
   p.model = msd::build_model(mesh, o);
-  p.initial = l.type == "vibration" && l.initial != "preload"
+  p.initial = l.type == Loading::Vibration && l.initial != "preload"
                   ? msd::displaced_state(p.model, l.initial == "axial_mode", l.amplitude)
                   : msd::rest_state(p.model);
-  if (l.type == "vibration") {
+  if (l.type == Loading::Vibration) {
     // The clamped base must start at rest with the field it prescribes (zero).
     for (int n : p.model.groups.at(static_cast<size_t>(p.clamp.clamp_group)).nodes)
       p.initial.x.col(n) = p.model.rest_positions.col(n);
@@ -166,43 +152,83 @@ MsdProblem compile_msd(const Spec& spec) {
 msd::ExperimentHooks msd_hooks(const MsdProblem& p, const std::function<bool(const std::vector<double>&)>& row,
                                const std::function<void(const msd::State&)>& frame) {
   msd::ExperimentHooks h;
-  if (p.loading == "uniaxial") {
-    h.controls = [&p](double t) { return msd::uniaxial_controls(p.model, p.platens, p.path, t); };
-    h.sample = [&p, row, frame](const msd::State& st, msd::Scratch& sc) {
-      if (frame) frame(st);
-      const msd::UniaxialSample x = msd::measure_uniaxial(p.model, p.platens, st, sc);
-      return row({x.time, x.strain, x.nominal_stress, x.volume_ratio, static_cast<double>(x.inverted_elements),
-                  x.lateral_force, x.kinetic_energy, static_cast<double>(x.nonlinear_active)});
-    };
-  } else if (p.loading == "simple_shear") {
-    h.controls = [&p](double t) { return msd::shear_controls(p.model, p.platens, p.path, t); };
-    h.sample = [&p, row, frame](const msd::State& st, msd::Scratch& sc) {
-      if (frame) frame(st);
-      const msd::ShearSample x = msd::measure_shear(p.model, p.platens, st, sc);
-      return row({x.time, x.shear_strain, x.shear_stress, x.normal_stress, x.volume_ratio,
-                  static_cast<double>(x.inverted_elements), x.kinetic_energy});
-    };
-  } else if (p.loading == "indentation") {
-    h.controls = [&p](double t) { return msd::indentation_controls(p.model, p.indenter, p.path, t); };
-    h.sample = [&p, row, frame](const msd::State& st, msd::Scratch& sc) {
-      if (frame) frame(st);
-      const msd::IndentationSample x = msd::measure_indentation(p.model, p.indenter, p.path, st, sc);
-      return row({x.time, x.depth, x.force, static_cast<double>(x.contact_nodes), x.base_reaction, x.volume_ratio,
-                  static_cast<double>(x.inverted_elements), x.kinetic_energy});
-    };
-  } else {
-    h.controls = [&p](double t) { return msd::clamp_controls(p.model, p.path, t); };
-    const bool vib = p.loading == "vibration";
-    h.sample = [&p, row, vib, frame](const msd::State& st, msd::Scratch& sc) {
-      if (frame) frame(st);
-      const msd::ClampSample x = msd::measure_clamp(p.model, p.clamp, p.path, st, sc);
-      if (vib)
-        return row({x.time, x.probe_displacement.z(), x.kinetic_energy, x.volume_ratio,
-                    static_cast<double>(x.inverted_elements)});
-      return row({x.time, x.load_factor, x.probe_displacement.x(), x.probe_displacement.y(), x.probe_displacement.z(),
-                  x.reaction.x(), x.reaction.y(), x.reaction.z(), x.volume_ratio,
-                  static_cast<double>(x.inverted_elements), x.kinetic_energy});
-    };
+  switch (p.loading) {
+    case Loading::Uniaxial:
+      h.controls = [&p](double t) { return msd::uniaxial_controls(p.model, p.platens, p.path, t); };
+      h.sample = [&p, row, frame](const msd::State& st, msd::Scratch& sc) {
+        if (frame) frame(st);
+        const msd::UniaxialSample x = msd::measure_uniaxial(p.model, p.platens, st, sc);
+        return row(series_row(p.columns, {{"time", x.time},
+                                          {"strain", x.strain},
+                                          {"nominal_stress", x.nominal_stress},
+                                          {"volume_ratio", x.volume_ratio},
+                                          {"inverted_elements", static_cast<double>(x.inverted_elements)},
+                                          {"lateral_force", x.lateral_force},
+                                          {"kinetic_energy", x.kinetic_energy},
+                                          {"nonlinear_active_elements", static_cast<double>(x.nonlinear_active)}}));
+      };
+      break;
+    case Loading::SimpleShear:
+      h.controls = [&p](double t) { return msd::shear_controls(p.model, p.platens, p.path, t); };
+      h.sample = [&p, row, frame](const msd::State& st, msd::Scratch& sc) {
+        if (frame) frame(st);
+        const msd::ShearSample x = msd::measure_shear(p.model, p.platens, st, sc);
+        return row(series_row(p.columns, {{"time", x.time},
+                                          {"shear_strain", x.shear_strain},
+                                          {"shear_stress", x.shear_stress},
+                                          {"normal_stress_zz", x.normal_stress},
+                                          {"volume_ratio", x.volume_ratio},
+                                          {"inverted_elements", static_cast<double>(x.inverted_elements)},
+                                          {"kinetic_energy", x.kinetic_energy}}));
+      };
+      break;
+    case Loading::Indentation:
+      h.controls = [&p](double t) { return msd::indentation_controls(p.model, p.indenter, p.path, t); };
+      h.sample = [&p, row, frame](const msd::State& st, msd::Scratch& sc) {
+        if (frame) frame(st);
+        const msd::IndentationSample x = msd::measure_indentation(p.model, p.indenter, p.path, st, sc);
+        return row(series_row(p.columns, {{"time", x.time},
+                                          {"depth", x.depth},
+                                          {"indentation_force", x.force},
+                                          {"contact_nodes", static_cast<double>(x.contact_nodes)},
+                                          {"base_reaction_z", x.base_reaction},
+                                          {"volume_ratio", x.volume_ratio},
+                                          {"inverted_elements", static_cast<double>(x.inverted_elements)},
+                                          {"kinetic_energy", x.kinetic_energy}}));
+      };
+      break;
+    case Loading::Vibration:
+      h.controls = [&p](double t) { return msd::clamp_controls(p.model, p.path, t); };
+      h.sample = [&p, row, frame](const msd::State& st, msd::Scratch& sc) {
+        if (frame) frame(st);
+        const msd::ClampSample x = msd::measure_clamp(p.model, p.clamp, p.path, st, sc);
+        return row(series_row(p.columns, {{"time", x.time},
+                                          {"tip_displacement", x.probe_displacement.z()},
+                                          {"kinetic_energy", x.kinetic_energy},
+                                          {"volume_ratio", x.volume_ratio},
+                                          {"inverted_elements", static_cast<double>(x.inverted_elements)}}));
+      };
+      break;
+    case Loading::Static:
+      h.controls = [&p](double t) { return msd::clamp_controls(p.model, p.path, t); };
+      h.sample = [&p, row, frame](const msd::State& st, msd::Scratch& sc) {
+        if (frame) frame(st);
+        const msd::ClampSample x = msd::measure_clamp(p.model, p.clamp, p.path, st, sc);
+        return row(series_row(p.columns, {{"time", x.time},
+                                          {"load_factor", x.load_factor},
+                                          {"tip_displacement_x", x.probe_displacement.x()},
+                                          {"tip_displacement_y", x.probe_displacement.y()},
+                                          {"tip_displacement_z", x.probe_displacement.z()},
+                                          {"reaction_force_x", x.reaction.x()},
+                                          {"reaction_force_y", x.reaction.y()},
+                                          {"reaction_force_z", x.reaction.z()},
+                                          {"volume_ratio", x.volume_ratio},
+                                          {"inverted_elements", static_cast<double>(x.inverted_elements)},
+                                          {"kinetic_energy", x.kinetic_energy}}));
+      };
+      break;
+    case Loading::CooksMembrane:
+      throw msd::Error("msd_hooks: loading cooks_membrane is for the fem solver only");
   }
   return h;
 }
@@ -253,6 +279,26 @@ double proc_status_mb(const char* key) {
 
 }  // namespace
 
+SummaryColumns summary_columns(Loading loading, const std::vector<SeriesColumn>& columns) {
+  const LoadingInfo& info = loading_info(loading);
+  return {column_index(columns, info.strain_column), column_index(columns, info.stress_column),
+          column_index(columns, "volume_ratio"), column_index(columns, "inverted_elements")};
+}
+
+void track_row(RunSummary& s, const SummaryColumns& c, const std::vector<double>& row) {
+  auto widen = [&](int k, double& lo, double& hi) {
+    if (k >= 0) {
+      lo = std::min(lo, row[static_cast<size_t>(k)]);
+      hi = std::max(hi, row[static_cast<size_t>(k)]);
+    }
+  };
+  widen(c.strain, s.min_strain, s.max_strain);
+  widen(c.stress, s.min_stress, s.max_stress);
+  widen(c.volume_ratio, s.min_volume_ratio, s.max_volume_ratio);
+  if (c.inverted_elements >= 0)
+    s.max_inverted = std::max(s.max_inverted, static_cast<int>(row[static_cast<size_t>(c.inverted_elements)]));
+}
+
 RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress& progress) {
   const MsdSpec& ms = msd_section(spec);
   const double rss_start = proc_status_mb("VmRSS");
@@ -272,7 +318,7 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
                                       : msd::to_string(p.stepping.integrator)},
                {"mass_lumping", ms.mass_lumping},
                {"mesh_rule", spec.mesh->rule},
-               {"test", spec.loading.type + (spec.loading.type == "uniaxial" ? " (" + spec.loading.platens + " platens)" : "")}};
+               {"test", test_label(spec.loading.type, spec.loading.platens)}};
   if (!spec.msd->calibration.empty()) meta.text.emplace_back("calibration", spec.msd->calibration);
   ResultsWriter out(out_path, meta, p.columns);
   out.set_meta("mesh_counts", "nodes " + std::to_string(p.model.num_nodes()) + ", tets " +
@@ -293,19 +339,9 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
   const auto start = std::chrono::steady_clock::now();
   const std::clock_t cpu_start = std::clock();
   const double end = p.path.end_time();
-  // Column positions of the summary quantities, where the loading has them.
-  auto column = [&](const char* name) {
-    for (size_t k = 0; k < p.columns.size(); ++k)
-      if (p.columns[k].name == name) return static_cast<int>(k);
-    return -1;
-  };
-  const int c_strain = column(p.loading == "simple_shear" ? "shear_strain"
-                              : p.loading == "indentation" ? "depth"
-                                                           : "strain");
-  const int c_stress = column(p.loading == "simple_shear" ? "shear_stress"
-                              : p.loading == "indentation" ? "indentation_force"
-                                                           : "nominal_stress");
-  const int c_volume = column("volume_ratio"), c_inverted = column("inverted_elements");
+  const LoadingInfo& info = loading_info(p.loading);
+  const SummaryColumns tracked = summary_columns(p.loading, p.columns);
+  const int c_ring_down = info.ring_down ? column_index(p.columns, info.load_series) : -1;
   std::vector<double> times, tip;
   // /fields: every node's displacement at the field frames.
   {
@@ -329,19 +365,10 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
   try {
     const msd::ExperimentHooks hooks = msd_hooks(p, [&](const std::vector<double>& r) {
       out.append(r);
-      auto track = [&](int c, double& lo, double& hi) {
-        if (c >= 0) {
-          lo = std::min(lo, r[static_cast<size_t>(c)]);
-          hi = std::max(hi, r[static_cast<size_t>(c)]);
-        }
-      };
-      track(c_strain, s.min_strain, s.max_strain);
-      track(c_stress, s.min_stress, s.max_stress);
-      track(c_volume, s.min_volume_ratio, s.max_volume_ratio);
-      if (c_inverted >= 0) s.max_inverted = std::max(s.max_inverted, static_cast<int>(r[static_cast<size_t>(c_inverted)]));
-      if (p.loading == "vibration") {
+      track_row(s, tracked, r);
+      if (c_ring_down >= 0) {
         times.push_back(r[0]);
-        tip.push_back(r[1]);
+        tip.push_back(r[static_cast<size_t>(c_ring_down)]);
       }
       s.simulated_seconds = r[0];
       if (progress) progress(r[0], end);
@@ -355,7 +382,7 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
   }
   s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (s.complete) s.steps = stats.steps;
-  if (p.loading == "vibration") {
+  if (info.ring_down) {
     const RingDown rd = analyse_ring_down_after(times, tip, spec.loading.release);  // from the release
     s.highlights = {{"f1_Hz", rd.frequency}, {"zeta", rd.damping_ratio}};
     out.set_metric("first_frequency", rd.frequency);

@@ -282,77 +282,95 @@ std::vector<std::pair<double, double>> parse_path(const Fields& f) {
   return path;
 }
 
+Loading loading_type(const Fields& f) {
+  const std::string name = f.text("type");
+  if (const std::optional<Loading> l = find_loading(name)) return *l;
+  throw msd::Error(f.where("type") + "'" + name + "' is not one of: " + loading_names());
+}
+
 LoadingSpec parse_loading(const Fields& f) {
   LoadingSpec l;
-  l.type = f.text("type");
-  one_of(f, "type", l.type, {"uniaxial", "simple_shear", "cooks_membrane", "vibration", "static", "indentation"});
+  l.type = loading_type(f);
   const std::vector<std::string> faces{"left", "right", "front", "back", "bottom", "top"};
-  if (l.type == "uniaxial") {
-    f.only({"type", "platens", "path", "gravity"});
-    l.platens = f.text_or("platens", l.platens);
-    one_of(f, "platens", l.platens, {"bonded", "frictionless"});
-    l.path = parse_path(f);
-    for (const auto& [t, e] : l.path)
-      if (!(e > -1.0)) throw msd::Error(f.where("path") + "nominal strain must stay above -1");
-  } else if (l.type == "simple_shear") {
-    f.only({"type", "boundary", "path"});
-    l.boundary = f.text_or("boundary", l.boundary);
-    one_of(f, "boundary", l.boundary, {"platens", "homogeneous"});
-    l.path = parse_path(f);
-  } else if (l.type == "cooks_membrane") {
-    f.only({"type", "force", "path"});
-    l.force = f.number("force");
-    l.path = f.has("path") ? parse_path(f) : std::vector<std::pair<double, double>>{{0.0, 0.0}, {1.0, 1.0}};
-  } else if (l.type == "static") {
-    f.only({"type", "fixed", "traction", "gravity", "path"});
-    l.fixed = f.text_or("fixed", l.fixed);
-    one_of(f, "fixed", l.fixed, faces);
-    if (auto t = f.optional_section("traction")) {
-      t->only({"face", "force"});
-      l.traction_face = t->text("face");
-      one_of(*t, "face", l.traction_face, faces);
-      l.traction = vec3(*t, "force");
-      if (l.traction_face == l.fixed) throw msd::Error(t->where("face") + "the traction face is the fixed face");
+  switch (l.type) {
+    case Loading::Uniaxial: {
+      f.only({"type", "platens", "path", "gravity"});
+      l.platens = f.text_or("platens", l.platens);
+      one_of(f, "platens", l.platens, {"bonded", "frictionless"});
+      l.path = parse_path(f);
+      for (const auto& [t, e] : l.path)
+        if (!(e > -1.0)) throw msd::Error(f.where("path") + "nominal strain must stay above -1");
+      break;
     }
-    l.path = f.has("path") ? parse_path(f) : std::vector<std::pair<double, double>>{{0.0, 0.0}, {1.0, 1.0}};
-  } else if (l.type == "indentation") {
-    f.only({"type", "indenter", "path"});
-    auto ind = f.section("indenter");
-    ind.only({"shape", "radius", "axis", "depth", "response"});
-    const std::string shape = ind.text_or("shape", "cylinder");
-    one_of(ind, "shape", shape, {"cylinder"});
-    l.indenter_radius = ind.number("radius");
-    positive(ind, "radius", l.indenter_radius, "m");
-    l.indenter_depth = ind.number("depth");
-    positive(ind, "depth", l.indenter_depth, "m");
-    l.indenter_axis = ind.text_or("axis", l.indenter_axis);
-    one_of(ind, "axis", l.indenter_axis, {"x", "y"});
-    l.indenter_response = ind.text_or("response", l.indenter_response);
-    one_of(ind, "response", l.indenter_response, {"stick", "frictionless"});
-    l.path = parse_path(f);
-    for (const auto& [t, v] : l.path)
-      if (!(v >= 0.0 && v <= 1.0)) throw msd::Error(f.where("path") + "depth factors must lie in [0, 1]");
-  } else {
-    f.only({"type", "initial", "amplitude", "traction", "release", "duration", "gravity"});
-    l.initial = f.text_or("initial", l.initial);
-    one_of(f, "initial", l.initial, {"axial_mode", "axial_stretch", "preload"});
-    l.duration = f.number("duration");
-    positive(f, "duration", l.duration, "s");
-    if (l.initial == "preload") {
-      // "Stretch, release, ring down": a dead load on a face, ramped over the
-      // first half of [0, release], held, and removed at `release`.
-      auto t = f.section("traction");
-      t.only({"face", "force"});
-      l.traction_face = t.text("face");
-      one_of(t, "face", l.traction_face, faces);
-      l.traction = vec3(t, "force");
-      l.release = f.number("release");
-      positive(f, "release", l.release, "s");
-      if (f.has("amplitude")) throw msd::Error(f.where("amplitude") + "not used with 'initial: preload'");
-    } else {
-      l.amplitude = f.number("amplitude");
+    case Loading::SimpleShear: {
+      f.only({"type", "boundary", "path"});
+      l.boundary = f.text_or("boundary", l.boundary);
+      one_of(f, "boundary", l.boundary, {"platens", "homogeneous"});
+      l.path = parse_path(f);
+      break;
     }
-    l.path = {{0.0, 0.0}, {l.release + l.duration, 0.0}};
+    case Loading::CooksMembrane: {
+      f.only({"type", "force", "path"});
+      l.force = f.number("force");
+      l.path = f.has("path") ? parse_path(f) : std::vector<std::pair<double, double>>{{0.0, 0.0}, {1.0, 1.0}};
+      break;
+    }
+    case Loading::Static: {
+      f.only({"type", "fixed", "traction", "gravity", "path"});
+      l.fixed = f.text_or("fixed", l.fixed);
+      one_of(f, "fixed", l.fixed, faces);
+      if (auto t = f.optional_section("traction")) {
+        t->only({"face", "force"});
+        l.traction_face = t->text("face");
+        one_of(*t, "face", l.traction_face, faces);
+        l.traction = vec3(*t, "force");
+        if (l.traction_face == l.fixed) throw msd::Error(t->where("face") + "the traction face is the fixed face");
+      }
+      l.path = f.has("path") ? parse_path(f) : std::vector<std::pair<double, double>>{{0.0, 0.0}, {1.0, 1.0}};
+      break;
+    }
+    case Loading::Indentation: {
+      f.only({"type", "indenter", "path"});
+      auto ind = f.section("indenter");
+      ind.only({"shape", "radius", "axis", "depth", "response"});
+      const std::string shape = ind.text_or("shape", "cylinder");
+      one_of(ind, "shape", shape, {"cylinder"});
+      l.indenter_radius = ind.number("radius");
+      positive(ind, "radius", l.indenter_radius, "m");
+      l.indenter_depth = ind.number("depth");
+      positive(ind, "depth", l.indenter_depth, "m");
+      l.indenter_axis = ind.text_or("axis", l.indenter_axis);
+      one_of(ind, "axis", l.indenter_axis, {"x", "y"});
+      l.indenter_response = ind.text_or("response", l.indenter_response);
+      one_of(ind, "response", l.indenter_response, {"stick", "frictionless"});
+      l.path = parse_path(f);
+      for (const auto& [t, v] : l.path)
+        if (!(v >= 0.0 && v <= 1.0)) throw msd::Error(f.where("path") + "depth factors must lie in [0, 1]");
+      break;
+    }
+    case Loading::Vibration: {
+      f.only({"type", "initial", "amplitude", "traction", "release", "duration", "gravity"});
+      l.initial = f.text_or("initial", l.initial);
+      one_of(f, "initial", l.initial, {"axial_mode", "axial_stretch", "preload"});
+      l.duration = f.number("duration");
+      positive(f, "duration", l.duration, "s");
+      if (l.initial == "preload") {
+        // "Stretch, release, ring down": a dead load on a face, ramped over the
+        // first half of [0, release], held, and removed at `release`.
+        auto t = f.section("traction");
+        t.only({"face", "force"});
+        l.traction_face = t.text("face");
+        one_of(t, "face", l.traction_face, faces);
+        l.traction = vec3(t, "force");
+        l.release = f.number("release");
+        positive(f, "release", l.release, "s");
+        if (f.has("amplitude")) throw msd::Error(f.where("amplitude") + "not used with 'initial: preload'");
+      } else {
+        l.amplitude = f.number("amplitude");
+      }
+      l.path = {{0.0, 0.0}, {l.release + l.duration, 0.0}};
+      break;
+    }
   }
   if (f.has("gravity")) l.gravity = vec3(f, "gravity");
   return l;
@@ -382,7 +400,7 @@ Spec parse_spec(const std::string& text, const std::string& source) {
   if (f.has("msd")) s.msd = parse_msd(f.section("msd"));
   if (f.has("fem")) s.fem = parse_fem(f.section("fem"));
   s.loading = parse_loading(f.section("loading"));
-  if (s.loading.type == "indentation") {
+  if (s.loading.type == Loading::Indentation) {
     const Fields l = f.section("loading");
     if (s.geometry.shape != "box") throw msd::Error(l.where("type") + "indentation needs a box geometry");
     if (!(s.loading.indenter_depth < s.geometry.size.z()))

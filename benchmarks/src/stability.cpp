@@ -18,18 +18,6 @@ namespace bench {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-
-
-int column(const MsdProblem& p, const std::string& name) {
-  for (size_t k = 0; k < p.columns.size(); ++k)
-    if (p.columns[k].name == name) return static_cast<int>(k);
-  return -1;
-}
-
-}  // namespace
-
 double TrialOutcome::volume_error() const {
   return std::max(std::abs(min_volume_ratio - 1.0), std::abs(max_volume_ratio - 1.0));
 }
@@ -37,8 +25,8 @@ double TrialOutcome::volume_error() const {
 TrialOutcome run_trial(const Spec& spec) {
   const MsdProblem p = compile_msd(spec);
   TrialOutcome o;
-  const int c_vol = column(p, "volume_ratio"), c_inv = column(p, "inverted_elements");
-  const int c_load = column(p, load_series_name(spec.loading.type).c_str());
+  const int c_vol = column_index(p.columns, "volume_ratio"), c_inv = column_index(p.columns, "inverted_elements");
+  const int c_load = column_index(p.columns, load_series_name(spec.loading.type));
   bool first = true;
   const msd::ExperimentHooks hooks = msd_hooks(
       p,
@@ -159,7 +147,7 @@ DtSearch search_dt(const Spec& spec, const std::string& integrator, const std::s
 
 std::vector<ExtremeRow> run_extremes(const Spec& spec, const std::vector<std::string>& term_sets,
                                      const std::function<void(const std::string&)>& log) {
-  if (spec.loading.type != "uniaxial" || !spec.msd || spec.msd->constants != "physical" || spec.msd->integrator == "cvode")
+  if (spec.loading.type != Loading::Uniaxial || !spec.msd || spec.msd->constants != "physical" || spec.msd->integrator == "cvode")
     throw msd::Error(spec.path + ": the extreme loads need a uniaxial spec with physical msd constants and a "
                                  "fixed-step integrator");
   const double E = spec.material.youngs_modulus.value_or(0.0);

@@ -214,55 +214,65 @@ VerificationRow verify(const Spec& spec, const std::string& file) {
   const fem::NeoHookean m = fem_material(spec);
   VerificationRow v;
   v.name = spec.name;
-  const std::string& t = spec.loading.type;
-  if (t == "uniaxial") {
-    v.quantity = "nominal stress (max error over the path / max stress)";
-    v.source = "closed form, homogeneous uni-axial stress";
-    double err = 0.0, scale = 0.0;
-    const auto& e = r.series.at("strain");
-    for (size_t i = 0; i < e.size(); ++i) {
-      const double c = neo_hookean_uniaxial(m.mu, m.kappa, e[i]).nominal_stress;
-      err = std::max(err, std::abs(r.series.at("nominal_stress")[i] - c));
-      scale = std::max(scale, std::abs(c));
+  switch (spec.loading.type) {
+    case Loading::Uniaxial: {
+      v.quantity = "nominal stress (max error over the path / max stress)";
+      v.source = "closed form, homogeneous uni-axial stress";
+      double err = 0.0, scale = 0.0;
+      const auto& e = r.series.at("strain");
+      for (size_t i = 0; i < e.size(); ++i) {
+        const double c = neo_hookean_uniaxial(m.mu, m.kappa, e[i]).nominal_stress;
+        err = std::max(err, std::abs(r.series.at("nominal_stress")[i] - c));
+        scale = std::max(scale, std::abs(c));
+      }
+      v.value = err;
+      v.reference = scale;
+      v.rel_error = err / scale;
+      break;
     }
-    v.value = err;
-    v.reference = scale;
-    v.rel_error = err / scale;
-  } else if (t == "simple_shear") {
-    v.quantity = "shear stress (max error / max stress)";
-    v.source = "closed form, sigma_xz = mu gamma";
-    double err = 0.0, scale = 0.0;
-    const auto& g = r.series.at("shear_strain");
-    for (size_t i = 0; i < g.size(); ++i) {
-      const double c = neo_hookean_simple_shear(m.mu, g[i])[0];
-      err = std::max(err, std::abs(r.series.at("shear_stress")[i] - c));
-      scale = std::max(scale, std::abs(c));
+    case Loading::SimpleShear: {
+      v.quantity = "shear stress (max error / max stress)";
+      v.source = "closed form, sigma_xz = mu gamma";
+      double err = 0.0, scale = 0.0;
+      const auto& g = r.series.at("shear_strain");
+      for (size_t i = 0; i < g.size(); ++i) {
+        const double c = neo_hookean_simple_shear(m.mu, g[i])[0];
+        err = std::max(err, std::abs(r.series.at("shear_stress")[i] - c));
+        scale = std::max(scale, std::abs(c));
+      }
+      v.value = err;
+      v.reference = scale;
+      v.rel_error = err / scale;
+      break;
     }
-    v.value = err;
-    v.reference = scale;
-    v.rel_error = err / scale;
-  } else if (t == "static") {
-    v.quantity = "self-weight sag of the free end, m";
-    v.source = "closed form, rho g L^2 / 2E (small strain)";
-    const double E = 9 * m.kappa * m.mu / (3 * m.kappa + m.mu), L = spec.geometry.size.z();
-    v.value = -r.series.at("tip_displacement_z").back();
-    v.reference = m.density * 9.81 * L * L / (2 * E);
-    v.rel_error = (v.value - v.reference) / v.reference;
-  } else if (t == "cooks_membrane") {
-    v.quantity = "vertical displacement of the loaded edge's mid-point (48, 52) mm, m";
-    v.source = "Pelteret & McBride 2016 (deal.II code gallery): converged 14.74 mm";
-    v.value = r.series.at("mid_edge_displacement").back();
-    v.reference = 14.74e-3;
-    v.rel_error = (v.value - v.reference) / v.reference;
-  } else if (t == "vibration") {
-    v.quantity = "first axial frequency, Hz";
-    v.source = "closed form, sqrt(E / rho) / 4L";
-    v.value = r.metrics.at("first_frequency");
-    const double E = 9 * m.kappa * m.mu / (3 * m.kappa + m.mu);
-    v.reference = bar_first_frequency(E, m.density, spec.geometry.size.z());
-    v.rel_error = (v.value - v.reference) / v.reference;
-  } else {
-    throw msd::Error(spec.path + ": no closed form for loading '" + t + "' in the suite's verification");
+    case Loading::Static: {
+      v.quantity = "self-weight sag of the free end, m";
+      v.source = "closed form, rho g L^2 / 2E (small strain)";
+      const double E = 9 * m.kappa * m.mu / (3 * m.kappa + m.mu), L = spec.geometry.size.z();
+      v.value = -r.series.at("tip_displacement_z").back();
+      v.reference = m.density * 9.81 * L * L / (2 * E);
+      v.rel_error = (v.value - v.reference) / v.reference;
+      break;
+    }
+    case Loading::CooksMembrane:
+      v.quantity = "vertical displacement of the loaded edge's mid-point (48, 52) mm, m";
+      v.source = "Pelteret & McBride 2016 (deal.II code gallery): converged 14.74 mm";
+      v.value = r.series.at("mid_edge_displacement").back();
+      v.reference = 14.74e-3;
+      v.rel_error = (v.value - v.reference) / v.reference;
+      break;
+    case Loading::Vibration: {
+      v.quantity = "first axial frequency, Hz";
+      v.source = "closed form, sqrt(E / rho) / 4L";
+      v.value = r.metrics.at("first_frequency");
+      const double E = 9 * m.kappa * m.mu / (3 * m.kappa + m.mu);
+      v.reference = bar_first_frequency(E, m.density, spec.geometry.size.z());
+      v.rel_error = (v.value - v.reference) / v.reference;
+      break;
+    }
+    case Loading::Indentation:
+      throw msd::Error(spec.path + ": no closed form for loading '" + loading_name(spec.loading.type) +
+                       "' in the suite's verification");
   }
   return v;
 }
@@ -275,77 +285,104 @@ Spec edited(const Spec& spec, const std::string& edit_yaml) {
 
 }  // namespace
 
-int run_suite(const SuiteTier& tier, const SuiteOptions& o) {
-  const auto start = std::chrono::steady_clock::now();
-  auto log = [&](const std::string& s) {
-    if (o.log) o.log(s);
-  };
-  auto progress = [&](const std::string& label) { return o.progress ? o.progress(label) : Progress{}; };
-  const fs::path dir = o.out_dir;
+namespace {
+
+void log_line(const SuiteOptions& o, const std::string& s) {
+  if (o.log) o.log(s);
+}
+
+Progress progress_for(const SuiteOptions& o, const std::string& label) {
+  return o.progress ? o.progress(label) : Progress{};
+}
+
+// A benchmark's FEM spec and its MSD variants.
+struct Job {
+  Spec fem;
+  std::vector<std::pair<std::string, Spec>> variants;
+};
+
+// Every spec the tier names, read (and its variants made) before anything runs.
+struct SuiteSpecs {
+  std::vector<Job> jobs;
+  std::vector<Spec> sweeps, stability, verification, convergence;
+};
+
+SuiteSpecs read_suite_specs(const SuiteTier& tier, const SuiteOptions& o) {
   // Specs are looked up beside the tier file first, then in the specs folder.
   auto spec_file = [&](const std::string& name) {
     const fs::path beside = fs::path(tier.file).parent_path() / name;
     return fs::exists(beside) ? beside.string() : (fs::path(o.specs_dir) / name).string();
   };
-
-  // Every spec and variant is read first: bad input stops the suite before any run.
-  struct Job {
-    Spec fem;
-    std::vector<std::pair<std::string, Spec>> variants;
-  };
-  std::vector<Job> jobs;
+  SuiteSpecs specs;
   for (const auto& b : tier.benchmarks) {
     Job j{edited(load_spec(spec_file(b.spec)), b.edit_yaml), {}};
     for (const auto& v : tier.variants) j.variants.emplace_back(v, suite_variant(j.fem, v, o.calibration_dir));
-    jobs.push_back(std::move(j));
+    specs.jobs.push_back(std::move(j));
   }
-  std::vector<Spec> sweep_specs, stability_specs, verification_specs, convergence_specs;
-  for (const auto& s : tier.sweeps) sweep_specs.push_back(load_spec(spec_file(s.spec)));
-  for (const auto& s : tier.stability) stability_specs.push_back(load_spec(spec_file(s.spec)));
-  for (const auto& s : tier.verification) verification_specs.push_back(load_spec(spec_file(s)));
-  for (const auto& c : tier.convergence) convergence_specs.push_back(edited(load_spec(spec_file(c.spec)), c.edit_yaml));
-  fs::create_directories(dir);
+  for (const auto& s : tier.sweeps) specs.sweeps.push_back(load_spec(spec_file(s.spec)));
+  for (const auto& s : tier.stability) specs.stability.push_back(load_spec(spec_file(s.spec)));
+  for (const auto& s : tier.verification) specs.verification.push_back(load_spec(spec_file(s)));
+  for (const auto& c : tier.convergence) specs.convergence.push_back(edited(load_spec(spec_file(c.spec)), c.edit_yaml));
+  return specs;
+}
 
-  std::ostringstream bj;  // the benchmarks' part of the manifest
-  int failed = 0;
-  std::map<std::string, std::string> fem_of_text;  // spec text -> FEM file (reused by the sweeps)
+// One MSD variant of a benchmark, run and compared with the FEM reference; its
+// entry of the manifest's variant list. Counts a failed run in `failed`.
+std::string run_variant(const Job& j, const std::string& variant, const Spec& spec, const std::string& fem_file,
+                        const fs::path& dir, const SuiteOptions& o, int& failed) {
+  const fs::path vdir = dir / variant;
+  const std::string msd_file = (vdir / (spec.name + "_msd.h5")).string();
+  const std::string cmp_file = (vdir / (spec.name + "_compare.json")).string();
+  log_line(o, "[" + j.fem.name + "] MSD, " + variant);
+  fs::remove(cmp_file);
+  const RunSummary s = run_msd(spec, msd_file, progress_for(o, spec.name + " (msd, " + variant + ")"));
+  std::ostringstream bj;
+  bj << "{\"variant\": " << json_string(variant) << ", \"spec_sha256\": " << json_string(sha256_hex(spec.text))
+     << ", \"msd_file\": " << json_string(fs::relative(msd_file, dir).string())
+     << ", \"status\": " << json_string(s.complete ? "complete" : "failed") << ", \"failure\": "
+     << json_string(s.failure) << ", \"wall_seconds\": " << json_number(s.wall_seconds);
+  if (s.complete) {
+    const Comparison c = compare_results(msd_file, fem_file);
+    write_comparison_json(c, cmp_file);
+    bj << ", \"compare_file\": " << json_string(fs::relative(cmp_file, dir).string());
+    log_line(o, "  " + c.load_series + " relative RMS error " + json_number(100.0 * c.load_rel_rms, 3) + " %");
+  } else {
+    ++failed;
+    log_line(o, "  failed: " + s.failure);
+  }
+  bj << "}";
+  return bj.str();
+}
+
+// The benchmarks: each FEM reference, then its MSD variants. Returns the
+// manifest's benchmark entries; `fem_of_text` maps spec text to FEM file.
+std::string run_benchmarks(const std::vector<Job>& jobs, const fs::path& dir, const SuiteOptions& o, int& failed,
+                           std::map<std::string, std::string>& fem_of_text) {
+  std::ostringstream bj;
   for (size_t k = 0; k < jobs.size(); ++k) {
     const Job& j = jobs[k];
     const std::string fem_file = (dir / "fem" / (j.fem.name + "_fem.h5")).string();
-    log("[" + j.fem.name + "] FEM reference");
-    const bool reused = ensure_fem_reference(j.fem, fem_file, progress(j.fem.name + " (fem)"));
-    if (reused) log("  reused " + fem_file + " (same spec text)");
+    log_line(o, "[" + j.fem.name + "] FEM reference");
+    const bool reused = ensure_fem_reference(j.fem, fem_file, progress_for(o, j.fem.name + " (fem)"));
+    if (reused) log_line(o, "  reused " + fem_file + " (same spec text)");
     fem_of_text[j.fem.text] = fem_file;
     bj << (k ? ",\n" : "") << "    {\"name\": " << json_string(j.fem.name) << ", \"spec\": " << json_string(j.fem.path)
        << ", \"spec_sha256\": " << json_string(sha256_hex(j.fem.text)) << ", \"loading\": "
-       << json_string(j.fem.loading.type) << ", \"description\": " << json_string(j.fem.description)
+       << json_string(loading_name(j.fem.loading.type)) << ", \"description\": " << json_string(j.fem.description)
        << ", \"fem_file\": " << json_string(fs::relative(fem_file, dir).string()) << ", \"variants\": [";
     for (size_t v = 0; v < j.variants.size(); ++v) {
       const auto& [variant, spec] = j.variants[v];
-      const fs::path vdir = dir / variant;
-      const std::string msd_file = (vdir / (spec.name + "_msd.h5")).string();
-      const std::string cmp_file = (vdir / (spec.name + "_compare.json")).string();
-      log("[" + j.fem.name + "] MSD, " + variant);
-      fs::remove(cmp_file);
-      const RunSummary s = run_msd(spec, msd_file, progress(spec.name + " (msd, " + variant + ")"));
-      bj << (v ? ", " : "") << "{\"variant\": " << json_string(variant) << ", \"spec_sha256\": "
-         << json_string(sha256_hex(spec.text)) << ", \"msd_file\": " << json_string(fs::relative(msd_file, dir).string())
-         << ", \"status\": " << json_string(s.complete ? "complete" : "failed") << ", \"failure\": "
-         << json_string(s.failure) << ", \"wall_seconds\": " << json_number(s.wall_seconds);
-      if (s.complete) {
-        const Comparison c = compare_results(msd_file, fem_file);
-        write_comparison_json(c, cmp_file);
-        bj << ", \"compare_file\": " << json_string(fs::relative(cmp_file, dir).string());
-        log("  " + c.load_series + " relative RMS error " + json_number(100.0 * c.load_rel_rms, 3) + " %");
-      } else {
-        ++failed;
-        log("  failed: " + s.failure);
-      }
-      bj << "}";
+      bj << (v ? ", " : "") << run_variant(j, variant, spec, fem_file, dir, o, failed);
     }
     bj << "]}";
   }
+  return bj.str();
+}
 
+// The speed-accuracy sweeps (reusing the benchmarks' FEM references); returns
+// the manifest's list of sweep files.
+std::string run_sweeps(const SuiteTier& tier, const std::vector<Spec>& specs, const fs::path& dir,
+                       const SuiteOptions& o, const std::map<std::string, std::string>& fem_of_text) {
   std::ostringstream sj;
   for (size_t k = 0; k < tier.sweeps.size(); ++k) {
     const auto& w = tier.sweeps[k];
@@ -360,20 +397,25 @@ int run_suite(const SuiteTier& tier, const SuiteOptions& o) {
     so.out_dir = (dir / "sweep").string();
     so.executable = o.executable;
     so.point_timeout = w.point_timeout;
-    if (fem_of_text.count(sweep_specs[k].text)) so.reference = fem_of_text.at(sweep_specs[k].text);
-    log("[sweep " + sweep_specs[k].name + "]");
-    const SweepResult r = run_sweep(sweep_specs[k], g, so);
-    const std::string json = (dir / "sweep" / (sweep_specs[k].name + "_sweep.json")).string();
+    if (fem_of_text.count(specs[k].text)) so.reference = fem_of_text.at(specs[k].text);
+    log_line(o, "[sweep " + specs[k].name + "]");
+    const SweepResult r = run_sweep(specs[k], g, so);
+    const std::string json = (dir / "sweep" / (specs[k].name + "_sweep.json")).string();
     write_sweep_json(r, json);
-    write_sweep_csv(r, (dir / "sweep" / (sweep_specs[k].name + "_sweep.csv")).string());
+    write_sweep_csv(r, (dir / "sweep" / (specs[k].name + "_sweep.csv")).string());
     sj << (k ? ", " : "") << json_string(fs::relative(json, dir).string());
   }
+  return sj.str();
+}
 
+// The stability searches and extremes; returns the manifest's list of files.
+std::string run_stability_checks(const SuiteTier& tier, const std::vector<Spec>& specs, const fs::path& dir,
+                                 const SuiteOptions& o) {
   std::ostringstream tj;
   for (size_t k = 0; k < tier.stability.size(); ++k) {
     const auto& st = tier.stability[k];
-    const Spec& spec = stability_specs[k];
-    log("[stability " + spec.name + "]");
+    const Spec& spec = specs[k];
+    log_line(o, "[stability " + spec.name + "]");
     std::vector<DtSearch> searches;
     std::vector<ExtremeRow> extremes;
     if (st.dt_search)
@@ -385,35 +427,53 @@ int run_suite(const SuiteTier& tier, const SuiteOptions& o) {
     write_stability_json(spec.name, searches, extremes, json);
     tj << (k ? ", " : "") << json_string(fs::relative(json, dir).string());
   }
+  return tj.str();
+}
 
+// The FEM verification against closed forms; returns the manifest's entries.
+std::string run_verifications(const std::vector<Spec>& specs, const fs::path& dir, const SuiteOptions& o) {
   std::ostringstream vj;
-  for (size_t k = 0; k < verification_specs.size(); ++k) {
-    const Spec& spec = verification_specs[k];
-    log("[verification " + spec.name + "]");
+  for (size_t k = 0; k < specs.size(); ++k) {
+    const Spec& spec = specs[k];
+    log_line(o, "[verification " + spec.name + "]");
     const VerificationRow v = verify(spec, (dir / "verification" / (spec.name + "_fem.h5")).string());
-    log("  " + v.quantity + ": " + json_number(v.value, 5) + " (reference " + json_number(v.reference, 5) +
-        ", relative error " + json_number(v.rel_error, 3) + ")");
+    log_line(o, "  " + v.quantity + ": " + json_number(v.value, 5) + " (reference " + json_number(v.reference, 5) +
+               ", relative error " + json_number(v.rel_error, 3) + ")");
     vj << (k ? ",\n" : "") << "    {\"name\": " << json_string(v.name) << ", \"quantity\": " << json_string(v.quantity)
        << ", \"source\": " << json_string(v.source) << ", \"value\": " << json_number(v.value)
        << ", \"reference\": " << json_number(v.reference) << ", \"rel_error\": " << json_number(v.rel_error) << "}";
   }
+  return vj.str();
+}
 
+// The FEM refinement studies; returns the manifest's list of files.
+std::string run_convergence_studies(const SuiteTier& tier, const std::vector<Spec>& specs, const fs::path& dir,
+                                    const SuiteOptions& o) {
   std::ostringstream cj;
   for (size_t k = 0; k < tier.convergence.size(); ++k) {
     const auto& cv = tier.convergence[k];
-    const Spec& spec = convergence_specs[k];
-    log("[convergence " + spec.name + "]");
+    const Spec& spec = specs[k];
+    log_line(o, "[convergence " + spec.name + "]");
     const fs::path cdir = dir / "convergence";
     fs::create_directories(cdir);
     const ConvergenceStudy st = run_convergence(spec, cv.levels, cv.degree, cdir.string());
     const std::string json = (cdir / (spec.name + "_convergence.json")).string();
     write_convergence_json(st, json);
-    log("  observed order " + json_number(st.observed_order, 3) + ", estimated finest-level error " +
-        json_number(100.0 * st.finest_relative_error, 3) + " %");
+    log_line(o, "  observed order " + json_number(st.observed_order, 3) + ", estimated finest-level error " +
+               json_number(100.0 * st.finest_relative_error, 3) + " %");
     cj << (k ? ", " : "") << json_string(fs::relative(json, dir).string());
   }
+  return cj.str();
+}
 
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+// The manifest's parts, each JSON text from the runs above.
+struct ManifestParts {
+  std::string benchmarks, sweeps, stability, verification, convergence;
+};
+
+// Writes DIR/suite.json (through a temporary file, renamed when complete).
+std::string write_manifest(const SuiteTier& tier, const fs::path& dir, double wall, const ManifestParts& parts,
+                           int failed) {
   const std::string manifest = (dir / "suite.json").string();
   {
     std::ofstream m(manifest + ".tmp");
@@ -422,13 +482,33 @@ int run_suite(const SuiteTier& tier, const SuiteOptions& o) {
       << ",\n  \"wall_seconds\": " << json_number(wall, 5) << ",\n  \"provenance\": " << provenance_json()
       << ",\n  \"variants\": [";
     for (size_t v = 0; v < tier.variants.size(); ++v) m << (v ? ", " : "") << json_string(tier.variants[v]);
-    m << "],\n  \"benchmarks\": [\n" << bj.str() << "\n  ],\n  \"sweeps\": [" << sj.str() << "],\n  \"stability\": ["
-      << tj.str() << "],\n  \"verification\": [\n" << vj.str() << "\n  ],\n  \"convergence\": [" << cj.str()
-      << "],\n  \"failed_runs\": " << failed << "\n}\n";
+    m << "],\n  \"benchmarks\": [\n" << parts.benchmarks << "\n  ],\n  \"sweeps\": [" << parts.sweeps
+      << "],\n  \"stability\": [" << parts.stability << "],\n  \"verification\": [\n" << parts.verification
+      << "\n  ],\n  \"convergence\": [" << parts.convergence << "],\n  \"failed_runs\": " << failed << "\n}\n";
     if (!m) throw msd::Error(manifest + ": cannot write");
   }
   fs::rename(manifest + ".tmp", manifest);
-  log("suite " + tier.name + ": " + json_number(wall, 4) + " s; manifest " + manifest);
+  return manifest;
+}
+
+}  // namespace
+
+int run_suite(const SuiteTier& tier, const SuiteOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  const fs::path dir = o.out_dir;
+  const SuiteSpecs specs = read_suite_specs(tier, o);  // bad input stops the suite before any run
+  fs::create_directories(dir);
+  int failed = 0;
+  std::map<std::string, std::string> fem_of_text;  // spec text -> FEM file (reused by the sweeps)
+  ManifestParts parts;
+  parts.benchmarks = run_benchmarks(specs.jobs, dir, o, failed, fem_of_text);
+  parts.sweeps = run_sweeps(tier, specs.sweeps, dir, o, fem_of_text);
+  parts.stability = run_stability_checks(tier, specs.stability, dir, o);
+  parts.verification = run_verifications(specs.verification, dir, o);
+  parts.convergence = run_convergence_studies(tier, specs.convergence, dir, o);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::string manifest = write_manifest(tier, dir, wall, parts, failed);
+  log_line(o, "suite " + tier.name + ": " + json_number(wall, 4) + " s; manifest " + manifest);
   return failed;
 }
 

@@ -190,7 +190,7 @@ std::vector<SweepPoint> sweep_points(const Spec& spec, const SweepGrid& g) {
             p.dt = d;
             pts.push_back(p);
           }
-        if (g.cvode && spec.loading.type != "indentation") {  // CVODE cannot integrate contact
+        if (g.cvode && spec.loading.type != Loading::Indentation) {  // CVODE cannot integrate contact
           SweepPoint p;
           p.spacing = h;
           p.terms = t;
@@ -294,28 +294,26 @@ FemCostRow fem_cost_row(const std::string& file) {
 
 }  // namespace
 
-SweepResult run_sweep(const Spec& spec, const SweepGrid& grid, const SweepOptions& o) {
-  const int rank = fem::Session::rank(), size = fem::Session::size();
-  std::vector<SweepPoint> pts = sweep_points(spec, grid);
-  const fs::path dir = o.out_dir;
-  const fs::path points_dir = dir / (spec.name + "_points");
-  if (rank == 0) fs::create_directories(points_dir);
-  fem::Session::barrier();
+namespace {
 
-  // The FEM reference (all ranks together).
-  SweepResult res;
-  res.spec = spec.name;
-  res.spec_path = spec.path;
-  res.ranks = size;
-  res.reference_file = o.reference.empty() ? (dir / (spec.name + "_fem.h5")).string() : o.reference;
+// The FEM reference of the sweep (all ranks together): the given file, or the
+// spec's own run beside the points (reused when the spec text is unchanged).
+std::string fem_reference(const Spec& spec, const SweepOptions& o, const fs::path& dir, int rank) {
+  const std::string file = o.reference.empty() ? (dir / (spec.name + "_fem.h5")).string() : o.reference;
   if (o.reference.empty()) {
-    if (o.log && rank == 0) o.log("FEM reference: " + res.reference_file);
-    const bool reused = ensure_fem_reference(spec, res.reference_file);
+    if (o.log && rank == 0) o.log("FEM reference: " + file);
+    const bool reused = ensure_fem_reference(spec, file);
     if (o.log && rank == 0 && reused) o.log("  reused (same spec text)");
   } else if (!fs::exists(o.reference)) {
     throw msd::Error(o.reference + ": no such FEM results file");
   }
-  // The FEM at other accuracy levels (all ranks together; reused when unchanged).
+  return file;
+}
+
+// The FEM at the grid's other accuracy levels (all ranks together; reused when
+// unchanged); returns their results files.
+std::vector<std::string> run_fem_levels(const Spec& spec, const SweepGrid& grid, const SweepOptions& o,
+                                        const fs::path& dir, int rank) {
   std::vector<std::string> level_files;
   for (const auto& [degree, refinement] : grid.fem_levels) {
     if (degree < 1 || degree > 3) throw msd::Error("sweep: FEM level degree must be 1, 2 or 3");
@@ -331,99 +329,90 @@ SweepResult run_sweep(const Spec& spec, const SweepGrid& grid, const SweepOption
                                   ": " + level_files.back());
     ensure_fem_reference(level, level_files.back());
   }
-  fem::Session::barrier();
+  return level_files;
+}
 
-  // Points: rank r runs i mod size == r.
+void name_point_files(std::vector<SweepPoint>& pts, const Spec& spec, const fs::path& points_dir) {
   for (auto& p : pts) {
     const std::string stem = spec.name + "_p" + std::to_string(1000 + p.id).substr(1);
     p.spec_file = (points_dir / (stem + ".yaml")).string();
     p.results_file = (points_dir / (stem + ".h5")).string();
     p.log_file = (points_dir / (stem + ".log")).string();
   }
-  for (auto& p : pts) {
-    if (p.id % size != rank) continue;
-    const std::string text = point_spec_text(spec, p);
-    // A point already run from the identical spec text (complete, failed or
-    // timed out with the same limit) is kept: an interrupted sweep resumes.
-    if (fs::exists(p.results_file) && fs::exists(p.results_file + ".rss")) {
-      try {
-        const Results old = read_results(p.results_file);
-        const bool same_text = old.meta.count("spec") && old.meta.at("spec") == text;
-        const bool finished = old.status() == "complete" || old.status() == "failed";
-        std::ifstream tf(p.results_file + ".timeout");
-        double limit = -1.0;
-        const bool same_timeout = (tf >> limit) && std::abs(limit - o.point_timeout) < 1e-9;
-        if (same_text && (finished || same_timeout)) {
-          if (o.log) o.log("  point " + std::to_string(p.id) + ": kept from an earlier run (same spec)");
-          continue;
-        }
-      } catch (const std::exception&) {
-        // unreadable: run again
-      }
-    }
-    {
-      std::ofstream f(p.spec_file);
-      f << text;
-      if (!f) throw msd::Error(p.spec_file + ": cannot write");
-    }
-    long rss = 0;
-    fs::remove(p.results_file);
-    fs::remove(p.results_file + ".timeout");
-    bool timed_out = false;
-    const int code = spawn({o.executable, "run", p.spec_file, "--solver", "msd", "--out", p.results_file, "--quiet"},
-                           p.log_file, rss, o.point_timeout, &timed_out);
-    if (timed_out) std::ofstream(p.results_file + ".timeout") << o.point_timeout << "\n";
-    if (o.log) {
-      std::ostringstream s;
-      s << "  point " << p.id << "/" << pts.size() << " (rank " << rank << "): h " << p.spacing << ", "
-        << p.integrator << (p.integrator == "cvode" ? "" : ", dt " + json_number(p.dt, 4)) << ", " << p.terms
-        << ", threshold " << (p.threshold > 0 ? json_number(p.threshold, 3) : "off") << " -> exit " << code;
-      o.log(s.str());
-    }
-    // Peak memory goes beside the results (rank 0 reads it when merging).
-    std::ofstream(p.results_file + ".rss") << rss << "\n";
-    if (!timed_out && (code == 2 || !fs::exists(p.results_file)))
-      throw msd::Error("sweep point " + std::to_string(p.id) + " (" + p.spec_file + ") did not run: " +
-                       tail_of(p.log_file));
-  }
-  fem::Session::barrier();
-  if (rank != 0) return {};
+}
 
-  // Merge on rank 0.
+// A point already run from the identical spec text (complete, failed or timed
+// out with the same limit) is kept: an interrupted sweep resumes.
+bool ran_before(const SweepPoint& p, const std::string& text, const SweepOptions& o) {
+  if (!fs::exists(p.results_file) || !fs::exists(p.results_file + ".rss")) return false;
+  try {
+    const Results old = read_results(p.results_file);
+    const bool same_text = old.meta.count("spec") && old.meta.at("spec") == text;
+    const bool finished = old.status() == "complete" || old.status() == "failed";
+    std::ifstream tf(p.results_file + ".timeout");
+    double limit = -1.0;
+    const bool same_timeout = (tf >> limit) && std::abs(limit - o.point_timeout) < 1e-9;
+    return same_text && (finished || same_timeout);
+  } catch (const std::exception&) {
+    return false;  // unreadable: run again
+  }
+}
+
+// Runs one point as a child `tissuebench run` (its peak memory and a timeout
+// mark beside its results file); throws when the child could not run.
+void run_point(const SweepPoint& p, const std::string& text, const SweepOptions& o, int rank, size_t count) {
   {
-    long rss = 0;
-    const std::string log = (points_dir / "baseline.log").string();
-    spawn({o.executable, "--version"}, log, rss);
-    res.baseline_rss_mb = static_cast<double>(rss) / 1024.0;
+    std::ofstream f(p.spec_file);
+    f << text;
+    if (!f) throw msd::Error(p.spec_file + ": cannot write");
   }
-  for (auto& p : pts) {
-    double limit = 0.0;
-    if ((std::ifstream(p.results_file + ".timeout") >> limit)) {
-      p.status = "timeout";
-      p.failure = "stopped after " + json_number(limit, 4) + " s of wall time (sweep --point-timeout)";
-      if (fs::exists(p.results_file)) {
-        try {
-          const Results r = read_results(p.results_file);
-          if (r.series.count("time") && !r.series.at("time").empty()) p.failure_time = r.series.at("time").back();
-        } catch (const std::exception&) {
-        }
-      }
-      continue;
-    }
-    read_point(p, res.reference_file, spec.mesh->spacing, res.load_series, res.load_rms_fem);
-    std::ifstream in(p.results_file + ".rss");
-    long rss = 0;
-    if (in >> rss) p.peak_rss_mb = static_cast<double>(rss) / 1024.0;
+  long rss = 0;
+  fs::remove(p.results_file);
+  fs::remove(p.results_file + ".timeout");
+  bool timed_out = false;
+  const int code = spawn({o.executable, "run", p.spec_file, "--solver", "msd", "--out", p.results_file, "--quiet"},
+                         p.log_file, rss, o.point_timeout, &timed_out);
+  if (timed_out) std::ofstream(p.results_file + ".timeout") << o.point_timeout << "\n";
+  if (o.log) {
+    std::ostringstream s;
+    s << "  point " << p.id << "/" << count << " (rank " << rank << "): h " << p.spacing << ", "
+      << p.integrator << (p.integrator == "cvode" ? "" : ", dt " + json_number(p.dt, 4)) << ", " << p.terms
+      << ", threshold " << (p.threshold > 0 ? json_number(p.threshold, 3) : "off") << " -> exit " << code;
+    o.log(s.str());
   }
-  fill_time_errors(pts, res.load_series, res.load_rms_fem);
-  mark_pareto(pts);
-  res.points = std::move(pts);
+  // Peak memory goes beside the results (rank 0 reads it when merging).
+  std::ofstream(p.results_file + ".rss") << rss << "\n";
+  if (!timed_out && (code == 2 || !fs::exists(p.results_file)))
+    throw msd::Error("sweep point " + std::to_string(p.id) + " (" + p.spec_file + ") did not run: " +
+                     tail_of(p.log_file));
+}
 
+// Rank 0: a point's outcome from its files (a timed-out point from its mark).
+void merge_point(SweepPoint& p, SweepResult& res, double spec_spacing) {
+  double limit = 0.0;
+  if ((std::ifstream(p.results_file + ".timeout") >> limit)) {
+    p.status = "timeout";
+    p.failure = "stopped after " + json_number(limit, 4) + " s of wall time (sweep --point-timeout)";
+    if (fs::exists(p.results_file)) {
+      try {
+        const Results r = read_results(p.results_file);
+        if (r.series.count("time") && !r.series.at("time").empty()) p.failure_time = r.series.at("time").back();
+      } catch (const std::exception&) {
+      }
+    }
+    return;
+  }
+  read_point(p, res.reference_file, spec_spacing, res.load_series, res.load_rms_fem);
+  std::ifstream in(p.results_file + ".rss");
+  long rss = 0;
+  if (in >> rss) p.peak_rss_mb = static_cast<double>(rss) / 1024.0;
+}
+
+// The cost of each FEM level and its load curve's error against the reference.
+std::vector<FemCostRow> fem_level_rows(const SweepGrid& grid, const std::vector<std::string>& level_files,
+                                       const SweepResult& res) {
   const Results f = read_results(res.reference_file);
-  res.fem = fem_cost_row(res.reference_file);
-  res.fem.degree = spec.fem.degree;
-  res.fem.refinement = spec.fem.refinement;
-  res.fem.load_rel_rms = 0.0;
+  std::vector<FemCostRow> rows;
   for (size_t k = 0; k < level_files.size(); ++k) {
     FemCostRow row = fem_cost_row(level_files[k]);
     row.degree = grid.fem_levels[k].first;
@@ -442,8 +431,60 @@ SweepResult run_sweep(const Spec& spec, const SweepGrid& grid, const SweepOption
       }
       if (n > 0) row.load_rel_rms = std::sqrt(sum / static_cast<double>(n)) / res.load_rms_fem;
     }
-    res.fem_levels.push_back(row);
+    rows.push_back(row);
   }
+  return rows;
+}
+
+}  // namespace
+
+SweepResult run_sweep(const Spec& spec, const SweepGrid& grid, const SweepOptions& o) {
+  const int rank = fem::Session::rank(), size = fem::Session::size();
+  std::vector<SweepPoint> pts = sweep_points(spec, grid);
+  const fs::path dir = o.out_dir;
+  const fs::path points_dir = dir / (spec.name + "_points");
+  if (rank == 0) fs::create_directories(points_dir);
+  fem::Session::barrier();
+
+  SweepResult res;
+  res.spec = spec.name;
+  res.spec_path = spec.path;
+  res.ranks = size;
+  res.reference_file = fem_reference(spec, o, dir, rank);
+  const std::vector<std::string> level_files = run_fem_levels(spec, grid, o, dir, rank);
+  fem::Session::barrier();
+
+  // Points: rank r runs i mod size == r.
+  name_point_files(pts, spec, points_dir);
+  for (const auto& p : pts) {
+    if (p.id % size != rank) continue;
+    const std::string text = point_spec_text(spec, p);
+    if (ran_before(p, text, o)) {
+      if (o.log) o.log("  point " + std::to_string(p.id) + ": kept from an earlier run (same spec)");
+      continue;
+    }
+    run_point(p, text, o, rank, pts.size());
+  }
+  fem::Session::barrier();
+  if (rank != 0) return {};
+
+  // Merge on rank 0.
+  {
+    long rss = 0;
+    const std::string log = (points_dir / "baseline.log").string();
+    spawn({o.executable, "--version"}, log, rss);
+    res.baseline_rss_mb = static_cast<double>(rss) / 1024.0;
+  }
+  for (auto& p : pts) merge_point(p, res, spec.mesh->spacing);
+  fill_time_errors(pts, res.load_series, res.load_rms_fem);
+  mark_pareto(pts);
+  res.points = std::move(pts);
+
+  res.fem = fem_cost_row(res.reference_file);
+  res.fem.degree = spec.fem.degree;
+  res.fem.refinement = spec.fem.refinement;
+  res.fem.load_rel_rms = 0.0;
+  res.fem_levels = fem_level_rows(grid, level_files, res);
   return res;
 }
 

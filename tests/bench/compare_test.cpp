@@ -80,12 +80,12 @@ FileSpec uniaxial_fem() {
 }  // namespace
 
 TEST(Compare, LoadSeriesFollowTheLoading) {
-  EXPECT_EQ(bench::load_series_name("uniaxial"), "nominal_stress");
-  EXPECT_EQ(bench::load_series_name("simple_shear"), "shear_stress");
-  EXPECT_EQ(bench::load_series_name("vibration"), "tip_displacement");
-  EXPECT_EQ(bench::load_series_name("indentation"), "indentation_force");
-  EXPECT_EQ(bench::load_series_name("static"), "tip_displacement_z");
-  EXPECT_EQ(bench::load_series_name("cooks_membrane"), "");
+  EXPECT_EQ(bench::load_series_name(bench::Loading::Uniaxial), "nominal_stress");
+  EXPECT_EQ(bench::load_series_name(bench::Loading::SimpleShear), "shear_stress");
+  EXPECT_EQ(bench::load_series_name(bench::Loading::Vibration), "tip_displacement");
+  EXPECT_EQ(bench::load_series_name(bench::Loading::Indentation), "indentation_force");
+  EXPECT_EQ(bench::load_series_name(bench::Loading::Static), "tip_displacement_z");
+  EXPECT_EQ(bench::load_series_name(bench::Loading::CooksMembrane), "");
 }
 
 TEST(Compare, UniformRelativeErrorVolumeErrorAndCostsOnAFinerMsdSampling) {
@@ -104,7 +104,7 @@ TEST(Compare, UniformRelativeErrorVolumeErrorAndCostsOnAFinerMsdSampling) {
 
   const bench::Comparison c = bench::compare_results(dir.file("msd.h5"), dir.file("fem.h5"));
   EXPECT_EQ(c.spec, "synthetic");
-  EXPECT_EQ(c.loading, "uniaxial");
+  EXPECT_EQ(c.loading, bench::Loading::Uniaxial);
   EXPECT_EQ(c.load_series, "nominal_stress");
   EXPECT_EQ(c.units, "Pa");
   EXPECT_EQ(c.points, 101);
@@ -347,7 +347,7 @@ TEST(Compare, JsonHoldsEveryDocumentedKeyWithNullForUndefined) {
   testing_support::TempDir dir("compare");
   bench::Comparison c;
   c.spec = "s";
-  c.loading = "uniaxial";
+  c.loading = bench::Loading::Uniaxial;
   c.load_rel_rms = 0.25;
   write_comparison_json(c, dir.file("c.json"));
   std::ifstream in(dir.file("c.json"));

@@ -137,7 +137,7 @@ output: {interval: 0.05}
 
 TEST(Spec, IndentationFieldsAreReadAndCheckedByName) {
   const bench::Spec s = bench::parse_spec(kIndentation, "ind.yaml");
-  EXPECT_EQ(s.loading.type, "indentation");
+  EXPECT_EQ(s.loading.type, bench::Loading::Indentation);
   EXPECT_DOUBLE_EQ(s.loading.indenter_radius, 0.01);
   EXPECT_DOUBLE_EQ(s.loading.indenter_depth, 0.004);
   EXPECT_EQ(s.loading.indenter_axis, "y");

@@ -5,6 +5,8 @@
 // reports and the CI guard read them.
 #pragma once
 
+#include "bench/loading.hpp"
+
 #include <limits>
 #include <string>
 
@@ -12,7 +14,7 @@ namespace bench {
 
 struct Comparison {
   std::string spec;
-  std::string loading;          ///< uniaxial | simple_shear | static | vibration | indentation
+  Loading loading = Loading::Uniaxial;
   std::string load_series;      ///< the compared load curve, e.g. nominal_stress
   std::string units;
   long points = 0;              ///< FEM report times inside the MSD run
@@ -45,11 +47,12 @@ struct Comparison {
   double cost_ratio = std::numeric_limits<double>::quiet_NaN();
 };
 
-/// The load curve a loading is judged by: nominal_stress (uniaxial),
-/// shear_stress (simple_shear), tip_displacement (vibration),
-/// indentation_force (indentation), tip_displacement_z (static: the default;
-/// a comparison picks the component the FEM moves most along); "" otherwise.
-std::string load_series_name(const std::string& loading);
+/// The load curve a loading is judged by (loading_info's load_series):
+/// nominal_stress (uniaxial), shear_stress (simple_shear), tip_displacement
+/// (vibration), indentation_force (indentation), tip_displacement_z (static:
+/// the default; a comparison picks the component the FEM moves most along);
+/// "" otherwise.
+std::string load_series_name(Loading loading);
 
 /// Compares two complete results files (msd first). Throws msd::Error when a
 /// file is missing, incomplete, of the wrong solver or of a different loading.

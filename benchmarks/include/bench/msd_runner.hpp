@@ -4,6 +4,7 @@
 #pragma once
 
 #include "bench/cvode_integrator.hpp"
+#include "bench/loading.hpp"
 #include "bench/shared_io.hpp"
 #include "bench/spec.hpp"
 #include "msd/experiments/indentation.hpp"
@@ -38,13 +39,13 @@ struct MsdProblem {
   msd::Model model;
   msd::LoadingPath path;              ///< strain, shear strain or load factor
   msd::TimeSteppingOptions stepping;
-  std::string loading;
+  Loading loading = Loading::Uniaxial;
   msd::UniaxialSetup platens;         ///< uniaxial, simple_shear
   msd::ClampSetup clamp;              ///< static, vibration
   msd::IndentationSetup indenter;     ///< indentation
   msd::State initial;
   double size = 0.0;                  ///< for the blow-up guard, m
-  std::vector<SeriesColumn> columns;  ///< the series this loading writes
+  std::vector<SeriesColumn> columns;  ///< series_columns(loading, Solver::Msd)
   bool cvode = false;                 ///< integrate with CVODE instead of `stepping`
   CvodeOptions cvode_options;
 };
@@ -67,7 +68,7 @@ std::vector<std::pair<std::string, double>> material_record(const Spec& spec,
 struct RunSummary {
   std::string name;
   std::string solver = "msd";
-  std::string loading = "uniaxial";
+  Loading loading = Loading::Uniaxial;
   bool complete = false;
   std::string failure;
   std::string out_path;
@@ -84,6 +85,19 @@ struct RunSummary {
   double min_volume_ratio = 1.0, max_volume_ratio = 1.0;
   int max_inverted = 0;
 };
+
+/// Positions in a loading's /series of what a RunSummary tracks (-1: absent).
+struct SummaryColumns {
+  int strain = -1, stress = -1, volume_ratio = -1, inverted_elements = -1;
+};
+
+/// The loading's strain and stress columns (loading_info) and the volume ratio
+/// and inverted elements, where `columns` hold them.
+SummaryColumns summary_columns(Loading loading, const std::vector<SeriesColumn>& columns);
+
+/// Widens the summary's strain, stress and volume-ratio ranges and raises its
+/// largest count of inverted elements by one results row.
+void track_row(RunSummary& s, const SummaryColumns& c, const std::vector<double>& row);
 
 /// Progress callback: simulated time reached and the run's end time.
 using Progress = std::function<void(double t, double end)>;

@@ -4,6 +4,8 @@
 // errors naming the file, line and field - and happens before anything runs.
 #pragma once
 
+#include "bench/loading.hpp"
+
 #include <Eigen/Core>
 
 #include <array>
@@ -86,8 +88,7 @@ struct FemSpec {
 };
 
 struct LoadingSpec {
-  /// uniaxial | simple_shear | cooks_membrane | vibration | static | indentation
-  std::string type = "uniaxial";
+  Loading type = Loading::Uniaxial;
   std::string fixed = "bottom";           ///< static: the clamped face
   std::string traction_face;              ///< static: face carrying `traction` (empty: none)
   Eigen::Vector3d traction{Eigen::Vector3d::Zero()};  ///< static: total force, N
