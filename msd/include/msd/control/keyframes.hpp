@@ -25,14 +25,15 @@ class Keyframes {
   const std::vector<double>& times() const { return times_; }
   const std::vector<T>& values() const { return values_; }
 
-  /// v0 + (v1 - v0) (t - t0) / (t1 - t0) on the segment holding t; the first
-  /// value before it, the last after it; zero when empty.
+  /// v0 + s (v1 - v0), s = (t - t0) / (t1 - t0), on the segment holding t;
+  /// the first value before it, the last after it; zero when empty.
   T at(double t) const {
     if (times_.empty()) return zero();
     if (t <= times_.front()) return values_.front();
     if (t >= times_.back()) return values_.back();
     const std::size_t i = segment(t);
-    return T(values_[i] + (values_[i + 1] - values_[i]) * (t - times_[i]) / (times_[i + 1] - times_[i]));
+    const double s = (t - times_[i]) / (times_[i + 1] - times_[i]);
+    return T(values_[i] + s * (values_[i + 1] - values_[i]));
   }
 
   /// The slope of the segment holding t; zero before the first and from the
