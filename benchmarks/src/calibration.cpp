@@ -5,6 +5,7 @@
 #include "bench/fem_runner.hpp"
 #include "bench/msd_runner.hpp"
 #include "bench/shared_io.hpp"
+#include "msd/io/atomic_file.hpp"
 
 #include <unsupported/Eigen/NonLinearOptimization>
 #include <yaml-cpp/yaml.h>
@@ -356,45 +357,46 @@ CalibrationResult calibrate(const std::string& material, const std::vector<std::
 }
 
 void write_calibration(const CalibrationResult& r, const std::string& path) {
-  std::ofstream out(path);
-  if (!out) throw msd::Error(path + ": cannot write the calibration");
-  out << std::setprecision(17);  // round-trips exactly
-  out << "# MSD constants of " << r.material << " calibrated against the FEM reference\n"
-      << "# (tissuebench calibrate; objective and optimiser: benchmarks/include/bench/calibration.hpp).\n"
-      << "material: " << r.material << "\n"
-      << "parameters:\n  stiffness_scale: " << r.after.stiffness_scale << "\n  repulsion_factor: "
-      << r.after.repulsion_factor << "\n  volume_factor: " << r.after.volume_factor << "\n";
-  const double tau0 = r.before.damping_time.value_or(0.0);
-  if (r.damping_fitted && r.after.damping_time)
-    out << "  damping_time: " << *r.after.damping_time << "   # s, msd.damping_time (stage 2; the material's: "
-        << tau0 << ")\n";
-  else
-    out << "material_damping_time: " << tau0 << "   # s, not fitted (no ring-down spec): the MSD keeps the material's\n";
-  out << "starting_parameters:\n  stiffness_scale: " << r.before.stiffness_scale << "\n  repulsion_factor: "
-      << r.before.repulsion_factor << "\n  volume_factor: " << r.before.volume_factor << "\n  damping_time: " << tau0
-      << "\n"
-      << "volume_weight: " << r.volume_weight << "\n"
-      << "objective: {before: " << r.objective_before << ", after: " << r.objective_after << "}   # stage 1\n"
-      << "optimiser: {method: Eigen LevenbergMarquardt (MINPACK lmder), status: \"" << r.optimiser_status
-      << "\", iterations: " << r.iterations << ", evaluations: " << r.evaluations << "}\n";
-  if (r.damping_fitted)
-    out << "damping_stage: {objective_before: " << r.damping_objective_before
-        << ", objective_after: " << r.damping_objective_after << ", status: \"" << r.damping_status
-        << "\", iterations: " << r.damping_iterations << ", evaluations: " << r.damping_evaluations << "}\n";
-  out << "specs:   # errors before (the starting constants) and after (the calibrated set)\n";
-  for (const auto& s : r.specs) {
-    out << "  - {name: " << s.spec << ", sha256: " << s.sha256 << ", series: " << s.load_series
-        << ", rel_rms_before: " << s.rel_rms_before << ", rel_rms_after: " << s.rel_rms_after
-        << ", volume_max_error_before: " << s.volume_max_error_before
-        << ", volume_max_error_after: " << s.volume_max_error_after;
-    if (s.ring_down())
-      out << ", damping_ratio_fem: " << s.damping_ratio_fem << ", damping_ratio_before: " << s.damping_ratio_before
-          << ", damping_ratio_after: " << s.damping_ratio_after << ", frequency_fem: " << s.frequency_fem
-          << ", frequency_before: " << s.frequency_before << ", frequency_after: " << s.frequency_after;
-    out << "}\n";
-  }
-  out << "reference: {solver: fem, version: \"" << r.fem_version << "\", git_revision: \"" << r.fem_git_revision
-      << "\"}\ncreated: " << r.created << "\n";
+  msd::write_file_atomically(path, [&](std::ostream& out) {
+    out << std::setprecision(17);  // round-trips exactly
+    out << "# MSD constants of " << r.material << " calibrated against the FEM reference\n"
+        << "# (tissuebench calibrate; objective and optimiser: benchmarks/include/bench/calibration.hpp).\n"
+        << "material: " << r.material << "\n"
+        << "parameters:\n  stiffness_scale: " << r.after.stiffness_scale << "\n  repulsion_factor: "
+        << r.after.repulsion_factor << "\n  volume_factor: " << r.after.volume_factor << "\n";
+    const double tau0 = r.before.damping_time.value_or(0.0);
+    if (r.damping_fitted && r.after.damping_time)
+      out << "  damping_time: " << *r.after.damping_time << "   # s, msd.damping_time (stage 2; the material's: "
+          << tau0 << ")\n";
+    else
+      out << "material_damping_time: " << tau0
+          << "   # s, not fitted (no ring-down spec): the MSD keeps the material's\n";
+    out << "starting_parameters:\n  stiffness_scale: " << r.before.stiffness_scale << "\n  repulsion_factor: "
+        << r.before.repulsion_factor << "\n  volume_factor: " << r.before.volume_factor << "\n  damping_time: " << tau0
+        << "\n"
+        << "volume_weight: " << r.volume_weight << "\n"
+        << "objective: {before: " << r.objective_before << ", after: " << r.objective_after << "}   # stage 1\n"
+        << "optimiser: {method: Eigen LevenbergMarquardt (MINPACK lmder), status: \"" << r.optimiser_status
+        << "\", iterations: " << r.iterations << ", evaluations: " << r.evaluations << "}\n";
+    if (r.damping_fitted)
+      out << "damping_stage: {objective_before: " << r.damping_objective_before
+          << ", objective_after: " << r.damping_objective_after << ", status: \"" << r.damping_status
+          << "\", iterations: " << r.damping_iterations << ", evaluations: " << r.damping_evaluations << "}\n";
+    out << "specs:   # errors before (the starting constants) and after (the calibrated set)\n";
+    for (const auto& s : r.specs) {
+      out << "  - {name: " << s.spec << ", sha256: " << s.sha256 << ", series: " << s.load_series
+          << ", rel_rms_before: " << s.rel_rms_before << ", rel_rms_after: " << s.rel_rms_after
+          << ", volume_max_error_before: " << s.volume_max_error_before
+          << ", volume_max_error_after: " << s.volume_max_error_after;
+      if (s.ring_down())
+        out << ", damping_ratio_fem: " << s.damping_ratio_fem << ", damping_ratio_before: " << s.damping_ratio_before
+            << ", damping_ratio_after: " << s.damping_ratio_after << ", frequency_fem: " << s.frequency_fem
+            << ", frequency_before: " << s.frequency_before << ", frequency_after: " << s.frequency_after;
+      out << "}\n";
+    }
+    out << "reference: {solver: fem, version: \"" << r.fem_version << "\", git_revision: \"" << r.fem_git_revision
+        << "\"}\ncreated: " << r.created << "\n";
+  });
 }
 
 CalibrationParameters read_calibration(const std::string& path, std::string* material) {

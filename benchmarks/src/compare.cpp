@@ -1,12 +1,12 @@
 #include "bench/compare.hpp"
 
 #include "bench/shared_io.hpp"
+#include "tbio/json.hpp"
 
 #include "msd/core/types.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 
@@ -172,26 +172,34 @@ Comparison compare_results(const std::string& msd_file, const std::string& fem_f
 }
 
 void write_comparison_json(const Comparison& c, const std::string& path) {
-  std::ofstream out(path);
-  if (!out) throw msd::Error(path + ": cannot write");
-  out << "{\n  \"spec\": " << json_string(c.spec) << ",\n  \"loading\": " << json_string(loading_name(c.loading))
-      << ",\n  \"load_series\": " << json_string(c.load_series) << ",\n  \"units\": " << json_string(c.units)
-      << ",\n  \"points\": " << c.points
-      << ",\n  \"load_rms_fem\": " << json_number(c.load_rms_fem) << ",\n  \"load_rel_rms\": " << json_number(c.load_rel_rms)
-      << ",\n  \"load_rel_rms_working\": " << json_number(c.load_rel_rms_working)
-      << ",\n  \"load_max_abs_error\": " << json_number(c.load_max_abs_error)
-      << ",\n  \"volume_ratio_max_error\": " << json_number(c.volume_ratio_max_error)
-      << ",\n  \"displacement_rel_rms\": " << json_number(c.displacement_rel_rms)
-      << ",\n  \"displacement_rel_max\": " << json_number(c.displacement_rel_max) << ",\n  \"nodes_compared\": "
-      << c.nodes_compared << ",\n  \"nodes_outside\": " << c.nodes_outside << ",\n  \"frames_compared\": "
-      << c.frames_compared << ",\n  \"frequency_msd\": " << json_number(c.frequency_msd)
-      << ",\n  \"frequency_fem\": " << json_number(c.frequency_fem) << ",\n  \"frequency_rel_error\": "
-      << json_number(c.frequency_rel_error) << ",\n  \"damping_ratio_msd\": " << json_number(c.damping_ratio_msd)
-      << ",\n  \"damping_ratio_fem\": " << json_number(c.damping_ratio_fem) << ",\n  \"damping_ratio_abs_error\": "
-      << json_number(c.damping_ratio_abs_error) << ",\n  \"msd_cost\": " << json_number(c.msd_cost)
-      << ",\n  \"fem_cost\": " << json_number(c.fem_cost) << ",\n  \"msd_cpu_cost\": " << json_number(c.msd_cpu_cost)
-      << ",\n  \"fem_cpu_cost\": " << json_number(c.fem_cpu_cost) << ",\n  \"cost_ratio\": " << json_number(c.cost_ratio)
-      << "\n}\n";
+  tbio::Json j;
+  j["spec"] = c.spec;
+  j["loading"] = loading_name(c.loading);
+  j["load_series"] = c.load_series;
+  j["units"] = c.units;
+  j["points"] = c.points;
+  j["load_rms_fem"] = c.load_rms_fem;
+  j["load_rel_rms"] = c.load_rel_rms;
+  j["load_rel_rms_working"] = c.load_rel_rms_working;
+  j["load_max_abs_error"] = c.load_max_abs_error;
+  j["volume_ratio_max_error"] = c.volume_ratio_max_error;
+  j["displacement_rel_rms"] = c.displacement_rel_rms;
+  j["displacement_rel_max"] = c.displacement_rel_max;
+  j["nodes_compared"] = c.nodes_compared;
+  j["nodes_outside"] = c.nodes_outside;
+  j["frames_compared"] = c.frames_compared;
+  j["frequency_msd"] = c.frequency_msd;
+  j["frequency_fem"] = c.frequency_fem;
+  j["frequency_rel_error"] = c.frequency_rel_error;
+  j["damping_ratio_msd"] = c.damping_ratio_msd;
+  j["damping_ratio_fem"] = c.damping_ratio_fem;
+  j["damping_ratio_abs_error"] = c.damping_ratio_abs_error;
+  j["msd_cost"] = c.msd_cost;
+  j["fem_cost"] = c.fem_cost;
+  j["msd_cpu_cost"] = c.msd_cpu_cost;
+  j["fem_cpu_cost"] = c.fem_cpu_cost;
+  j["cost_ratio"] = c.cost_ratio;
+  tbio::write_json_file(path, j);
 }
 
 std::string format_comparison(const Comparison& c) {

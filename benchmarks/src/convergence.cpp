@@ -3,11 +3,10 @@
 #include "bench/fem_runner.hpp"
 #include "bench/shared_io.hpp"
 #include "fem/fem.hpp"
+#include "tbio/json.hpp"
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <iomanip>
 
 namespace bench {
 
@@ -101,22 +100,27 @@ double peak(const std::vector<double>& v) {
 }
 
 void write_convergence_json(const ConvergenceStudy& st, const std::string& path) {
-  std::ofstream out(path);
-  if (!out) throw msd::Error(path + ": cannot write");
-  out << std::setprecision(10) << "{\n  \"spec\": \"" << st.spec_name << "\",\n  \"quantity\": \"" << st.quantity
-      << "\",\n  \"units\": \"" << st.units << "\",\n  \"levels\": [\n";
-  for (size_t k = 0; k < st.levels.size(); ++k) {
-    const auto& L = st.levels[k];
-    out << "    {\"level\": " << L.level << ", \"degree\": " << L.degree << ", \"refinement\": " << L.refinement
-        << ", \"cells\": " << L.run.cells << ", \"dofs\": " << L.run.dofs << ", \"wall_seconds\": "
-        << L.run.wall_seconds << ", \"final_value\": " << (L.values.empty() ? 0.0 : L.values.back())
-        << ", \"file\": \"" << L.run.out_path << "\"}" << (k + 1 < st.levels.size() ? "," : "") << "\n";
-  }
-  out << "  ],\n  \"differences\": [";
-  for (size_t k = 0; k < st.differences.size(); ++k) out << (k ? ", " : "") << st.differences[k];
-  out << "],\n  \"scale\": " << st.scale << ",\n  \"observed_order\": " << st.observed_order
-      << ",\n  \"finest_error\": " << st.finest_error << ",\n  \"finest_relative_error\": "
-      << st.finest_relative_error << "\n}\n";
+  tbio::Json levels = tbio::Json::array();
+  for (const auto& L : st.levels)
+    levels.push_back({{"level", L.level},
+                      {"degree", L.degree},
+                      {"refinement", L.refinement},
+                      {"cells", L.run.cells},
+                      {"dofs", L.run.dofs},
+                      {"wall_seconds", L.run.wall_seconds},
+                      {"final_value", L.values.empty() ? 0.0 : L.values.back()},
+                      {"file", L.run.out_path}});
+  tbio::Json j;
+  j["spec"] = st.spec_name;
+  j["quantity"] = st.quantity;
+  j["units"] = st.units;
+  j["levels"] = std::move(levels);
+  j["differences"] = st.differences;
+  j["scale"] = st.scale;
+  j["observed_order"] = st.observed_order;
+  j["finest_error"] = st.finest_error;
+  j["finest_relative_error"] = st.finest_relative_error;
+  tbio::write_json_file(path, j);
 }
 
 }  // namespace bench

@@ -2,13 +2,13 @@
 #include "bench/shared_io.hpp"
 
 #include "msd/core/types.hpp"
+#include "msd/io/atomic_file.hpp"
 
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 namespace bench {
@@ -87,10 +87,7 @@ Baseline read_baseline(const std::string& path) {
 }
 
 void write_baseline(const Baseline& b, const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw msd::Error(path + ": cannot write");
+  msd::write_file_atomically(path, [&](std::ostream& out) {
     out << "# tissuebench regression baseline - written by `tissuebench check --update`; edit tolerances by hand.\n"
         << "# Accuracy metrics: absolute tolerances on the error fractions; cost_ratio (msd/fem cost\n"
         << "# measured in the same run): relative. Keys: SPEC.KEY of the *_compare.json files.\n"
@@ -98,8 +95,7 @@ void write_baseline(const Baseline& b, const std::string& path) {
     for (const auto& [k, e] : b.metrics)
       out << "  " << k << ": {value: " << json_number(e.value, 6) << ", tolerance: " << json_number(e.tolerance, 4)
           << (e.relative ? ", relative: true" : "") << "}\n";
-  }
-  fs::rename(tmp, path);
+  });
 }
 
 GuardEntry default_entry(const std::string& key, double value) {

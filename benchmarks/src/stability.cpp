@@ -5,12 +5,12 @@
 #include "bench/msd_runner.hpp"
 #include "bench/shared_io.hpp"
 #include "bench/sweep.hpp"
+#include "tbio/json.hpp"
 #include "msd/forces/element_forces.hpp"
 
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 
@@ -251,36 +251,42 @@ std::string format_extremes(const std::vector<ExtremeRow>& rows) {
 
 void write_stability_json(const std::string& spec, const std::vector<DtSearch>& dt,
                           const std::vector<ExtremeRow>& ex, const std::string& path) {
-  const std::string tmp = path + ".partial";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw msd::Error(path + ": cannot write");
-    out << "{\n  \"spec\": " << json_string(spec) << ",\n  \"dt_search\": [\n";
-    for (size_t k = 0; k < dt.size(); ++k) {
-      const auto& d = dt[k];
-      out << "    {\"integrator\": " << json_string(d.integrator) << ", \"terms\": " << json_string(d.terms)
-          << ", \"reference_dt\": " << json_number(d.reference_dt) << ", \"largest_stable_dt\": " << json_number(d.largest_stable_dt)
-          << ", \"smallest_unstable_dt\": " << json_number(d.smallest_unstable_dt) << ", \"reason\": "
-          << json_string(d.unstable_reason) << ", \"trials\": " << d.trials << ", \"wall_seconds\": "
-          << json_number(d.wall_seconds) << "}" << (k + 1 < dt.size() ? "," : "") << "\n";
-    }
-    out << "  ],\n  \"extremes\": [\n";
-    for (size_t k = 0; k < ex.size(); ++k) {
-      const auto& r = ex[k];
-      const auto& o = r.outcome;
-      out << "    {\"case\": " << json_string(r.name) << ", \"description\": " << json_string(r.description)
-          << ", \"terms\": " << json_string(r.terms) << ", \"dt\": " << json_number(r.dt) << ", \"finite\": "
-          << (o.finite ? "true" : "false") << ", \"failure\": " << json_string(o.failure) << ", \"failure_time\": "
-          << json_number(o.failure_time) << ", \"max_inverted\": " << o.max_inverted << ", \"final_inverted\": "
-          << o.final_inverted << ", \"volume_error\": " << json_number(o.volume_error()) << ", \"min_volume_ratio\": "
-          << json_number(o.min_volume_ratio) << ", \"max_volume_ratio\": " << json_number(o.max_volume_ratio)
-          << ", \"min_load\": " << json_number(o.min_load) << ", \"max_load\": " << json_number(o.max_load)
-          << ", \"max_kinetic_energy\": " << json_number(o.max_kinetic_energy) << ", \"steps\": " << o.steps
-          << ", \"wall_seconds\": " << json_number(o.wall_seconds) << "}" << (k + 1 < ex.size() ? "," : "") << "\n";
-    }
-    out << "  ]\n}\n";
+  tbio::Json searches = tbio::Json::array();
+  for (const auto& d : dt)
+    searches.push_back({{"integrator", d.integrator},
+                        {"terms", d.terms},
+                        {"reference_dt", d.reference_dt},
+                        {"largest_stable_dt", d.largest_stable_dt},
+                        {"smallest_unstable_dt", d.smallest_unstable_dt},
+                        {"reason", d.unstable_reason},
+                        {"trials", d.trials},
+                        {"wall_seconds", d.wall_seconds}});
+  tbio::Json extremes = tbio::Json::array();
+  for (const auto& r : ex) {
+    const auto& o = r.outcome;
+    extremes.push_back({{"case", r.name},
+                        {"description", r.description},
+                        {"terms", r.terms},
+                        {"dt", r.dt},
+                        {"finite", o.finite},
+                        {"failure", o.failure},
+                        {"failure_time", o.failure_time},
+                        {"max_inverted", o.max_inverted},
+                        {"final_inverted", o.final_inverted},
+                        {"volume_error", o.volume_error()},
+                        {"min_volume_ratio", o.min_volume_ratio},
+                        {"max_volume_ratio", o.max_volume_ratio},
+                        {"min_load", o.min_load},
+                        {"max_load", o.max_load},
+                        {"max_kinetic_energy", o.max_kinetic_energy},
+                        {"steps", o.steps},
+                        {"wall_seconds", o.wall_seconds}});
   }
-  fs::rename(tmp, path);
+  tbio::Json j;
+  j["spec"] = spec;
+  j["dt_search"] = std::move(searches);
+  j["extremes"] = std::move(extremes);
+  tbio::write_json_file(path, j);
 }
 
 }  // namespace bench

@@ -10,6 +10,7 @@
 #include "bench/stability.hpp"
 #include "bench/sweep.hpp"
 #include "fem/fem.hpp"
+#include "tbio/json.hpp"
 
 #include <Eigen/Core>
 #include <H5public.h>
@@ -184,19 +185,23 @@ SuiteTier load_tier(const std::string& path) {
   return t;
 }
 
-std::string provenance_json() {
-  std::ostringstream s;
-  s << "{\"cpu\": " << json_string(first_line_with("/proc/cpuinfo", "model name"))
-    << ", \"cores\": " << std::thread::hardware_concurrency()
-    << ", \"memory\": " << json_string(memory_gb())
-    << ", \"os\": " << json_string(first_line_with("/etc/os-release", "PRETTY_NAME"))
-    << ", \"compiler\": " << json_string(std::string("gcc ") + __VERSION__)
-    << ", \"eigen\": \"" << EIGEN_WORLD_VERSION << "." << EIGEN_MAJOR_VERSION << "." << EIGEN_MINOR_VERSION << "\""
-    << ", \"hdf5\": \"" << H5_VERS_MAJOR << "." << H5_VERS_MINOR << "." << H5_VERS_RELEASE << "\""
-    << ", \"sundials\": " << json_string(SUNDIALS_VERSION) << ", \"deal_ii\": " << json_string(fem::library_version())
-    << ", \"tissuebench\": " << json_string(tissuebench_version()) << ", \"git_revision\": " << json_string(git_revision())
-    << "}";
-  return s.str();
+tbio::Json provenance_json() {
+  auto version = [](int major, int minor, int patch) {
+    return std::to_string(major) + "." + std::to_string(minor) + "." + std::to_string(patch);
+  };
+  tbio::Json j;
+  j["cpu"] = first_line_with("/proc/cpuinfo", "model name");
+  j["cores"] = std::thread::hardware_concurrency();
+  j["memory"] = memory_gb();
+  j["os"] = first_line_with("/etc/os-release", "PRETTY_NAME");
+  j["compiler"] = std::string("gcc ") + __VERSION__;
+  j["eigen"] = version(EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION);
+  j["hdf5"] = version(H5_VERS_MAJOR, H5_VERS_MINOR, H5_VERS_RELEASE);
+  j["sundials"] = SUNDIALS_VERSION;
+  j["deal_ii"] = fem::library_version();
+  j["tissuebench"] = tissuebench_version();
+  j["git_revision"] = git_revision();
+  return j;
 }
 
 namespace {
@@ -328,7 +333,7 @@ SuiteSpecs read_suite_specs(const SuiteTier& tier, const SuiteOptions& o) {
 
 // One MSD variant of a benchmark, run and compared with the FEM reference; its
 // entry of the manifest's variant list. Counts a failed run in `failed`.
-std::string run_variant(const Job& j, const std::string& variant, const Spec& spec, const std::string& fem_file,
+tbio::Json run_variant(const Job& j, const std::string& variant, const Spec& spec, const std::string& fem_file,
                         const fs::path& dir, const SuiteOptions& o, int& failed) {
   const fs::path vdir = dir / variant;
   const std::string msd_file = (vdir / (spec.name + "_msd.h5")).string();
@@ -336,29 +341,30 @@ std::string run_variant(const Job& j, const std::string& variant, const Spec& sp
   log_line(o, "[" + j.fem.name + "] MSD, " + variant);
   fs::remove(cmp_file);
   const RunSummary s = run_msd(spec, msd_file, progress_for(o, spec.name + " (msd, " + variant + ")"));
-  std::ostringstream bj;
-  bj << "{\"variant\": " << json_string(variant) << ", \"spec_sha256\": " << json_string(sha256_hex(spec.text))
-     << ", \"msd_file\": " << json_string(fs::relative(msd_file, dir).string())
-     << ", \"status\": " << json_string(s.complete ? "complete" : "failed") << ", \"failure\": "
-     << json_string(s.failure) << ", \"wall_seconds\": " << json_number(s.wall_seconds);
+  tbio::Json bj;
+  bj["variant"] = variant;
+  bj["spec_sha256"] = sha256_hex(spec.text);
+  bj["msd_file"] = fs::relative(msd_file, dir).string();
+  bj["status"] = s.complete ? "complete" : "failed";
+  bj["failure"] = s.failure;
+  bj["wall_seconds"] = s.wall_seconds;
   if (s.complete) {
     const Comparison c = compare_results(msd_file, fem_file);
     write_comparison_json(c, cmp_file);
-    bj << ", \"compare_file\": " << json_string(fs::relative(cmp_file, dir).string());
+    bj["compare_file"] = fs::relative(cmp_file, dir).string();
     log_line(o, "  " + c.load_series + " relative RMS error " + json_number(100.0 * c.load_rel_rms, 3) + " %");
   } else {
     ++failed;
     log_line(o, "  failed: " + s.failure);
   }
-  bj << "}";
-  return bj.str();
+  return bj;
 }
 
 // The benchmarks: each FEM reference, then its MSD variants. Returns the
 // manifest's benchmark entries; `fem_of_text` maps spec text to FEM file.
-std::string run_benchmarks(const std::vector<Job>& jobs, const fs::path& dir, const SuiteOptions& o, int& failed,
-                           std::map<std::string, std::string>& fem_of_text) {
-  std::ostringstream bj;
+tbio::Json run_benchmarks(const std::vector<Job>& jobs, const fs::path& dir, const SuiteOptions& o, int& failed,
+                          std::map<std::string, std::string>& fem_of_text) {
+  tbio::Json bj = tbio::Json::array();
   for (size_t k = 0; k < jobs.size(); ++k) {
     const Job& j = jobs[k];
     const std::string fem_file = (dir / "fem" / (j.fem.name + "_fem.h5")).string();
@@ -366,24 +372,26 @@ std::string run_benchmarks(const std::vector<Job>& jobs, const fs::path& dir, co
     const bool reused = ensure_fem_reference(j.fem, fem_file, progress_for(o, j.fem.name + " (fem)"));
     if (reused) log_line(o, "  reused " + fem_file + " (same spec text)");
     fem_of_text[j.fem.text] = fem_file;
-    bj << (k ? ",\n" : "") << "    {\"name\": " << json_string(j.fem.name) << ", \"spec\": " << json_string(j.fem.path)
-       << ", \"spec_sha256\": " << json_string(sha256_hex(j.fem.text)) << ", \"loading\": "
-       << json_string(loading_name(j.fem.loading.type)) << ", \"description\": " << json_string(j.fem.description)
-       << ", \"fem_file\": " << json_string(fs::relative(fem_file, dir).string()) << ", \"variants\": [";
-    for (size_t v = 0; v < j.variants.size(); ++v) {
-      const auto& [variant, spec] = j.variants[v];
-      bj << (v ? ", " : "") << run_variant(j, variant, spec, fem_file, dir, o, failed);
-    }
-    bj << "]}";
+    tbio::Json b;
+    b["name"] = j.fem.name;
+    b["spec"] = j.fem.path;
+    b["spec_sha256"] = sha256_hex(j.fem.text);
+    b["loading"] = loading_name(j.fem.loading.type);
+    b["description"] = j.fem.description;
+    b["fem_file"] = fs::relative(fem_file, dir).string();
+    b["variants"] = tbio::Json::array();
+    for (const auto& [variant, spec] : j.variants)
+      b["variants"].push_back(run_variant(j, variant, spec, fem_file, dir, o, failed));
+    bj.push_back(std::move(b));
   }
-  return bj.str();
+  return bj;
 }
 
 // The speed-accuracy sweeps (reusing the benchmarks' FEM references); returns
 // the manifest's list of sweep files.
-std::string run_sweeps(const SuiteTier& tier, const std::vector<Spec>& specs, const fs::path& dir,
-                       const SuiteOptions& o, const std::map<std::string, std::string>& fem_of_text) {
-  std::ostringstream sj;
+tbio::Json run_sweeps(const SuiteTier& tier, const std::vector<Spec>& specs, const fs::path& dir,
+                      const SuiteOptions& o, const std::map<std::string, std::string>& fem_of_text) {
+  tbio::Json sj = tbio::Json::array();
   for (size_t k = 0; k < tier.sweeps.size(); ++k) {
     const auto& w = tier.sweeps[k];
     SweepGrid g;
@@ -403,15 +411,15 @@ std::string run_sweeps(const SuiteTier& tier, const std::vector<Spec>& specs, co
     const std::string json = (dir / "sweep" / (specs[k].name + "_sweep.json")).string();
     write_sweep_json(r, json);
     write_sweep_csv(r, (dir / "sweep" / (specs[k].name + "_sweep.csv")).string());
-    sj << (k ? ", " : "") << json_string(fs::relative(json, dir).string());
+    sj.push_back(fs::relative(json, dir).string());
   }
-  return sj.str();
+  return sj;
 }
 
 // The stability searches and extremes; returns the manifest's list of files.
-std::string run_stability_checks(const SuiteTier& tier, const std::vector<Spec>& specs, const fs::path& dir,
-                                 const SuiteOptions& o) {
-  std::ostringstream tj;
+tbio::Json run_stability_checks(const SuiteTier& tier, const std::vector<Spec>& specs, const fs::path& dir,
+                                const SuiteOptions& o) {
+  tbio::Json tj = tbio::Json::array();
   for (size_t k = 0; k < tier.stability.size(); ++k) {
     const auto& st = tier.stability[k];
     const Spec& spec = specs[k];
@@ -425,31 +433,34 @@ std::string run_stability_checks(const SuiteTier& tier, const std::vector<Spec>&
     fs::create_directories(dir / "stability");
     const std::string json = (dir / "stability" / (spec.name + "_stability.json")).string();
     write_stability_json(spec.name, searches, extremes, json);
-    tj << (k ? ", " : "") << json_string(fs::relative(json, dir).string());
+    tj.push_back(fs::relative(json, dir).string());
   }
-  return tj.str();
+  return tj;
 }
 
 // The FEM verification against closed forms; returns the manifest's entries.
-std::string run_verifications(const std::vector<Spec>& specs, const fs::path& dir, const SuiteOptions& o) {
-  std::ostringstream vj;
+tbio::Json run_verifications(const std::vector<Spec>& specs, const fs::path& dir, const SuiteOptions& o) {
+  tbio::Json vj = tbio::Json::array();
   for (size_t k = 0; k < specs.size(); ++k) {
     const Spec& spec = specs[k];
     log_line(o, "[verification " + spec.name + "]");
     const VerificationRow v = verify(spec, (dir / "verification" / (spec.name + "_fem.h5")).string());
     log_line(o, "  " + v.quantity + ": " + json_number(v.value, 5) + " (reference " + json_number(v.reference, 5) +
                ", relative error " + json_number(v.rel_error, 3) + ")");
-    vj << (k ? ",\n" : "") << "    {\"name\": " << json_string(v.name) << ", \"quantity\": " << json_string(v.quantity)
-       << ", \"source\": " << json_string(v.source) << ", \"value\": " << json_number(v.value)
-       << ", \"reference\": " << json_number(v.reference) << ", \"rel_error\": " << json_number(v.rel_error) << "}";
+    vj.push_back({{"name", v.name},
+                  {"quantity", v.quantity},
+                  {"source", v.source},
+                  {"value", v.value},
+                  {"reference", v.reference},
+                  {"rel_error", v.rel_error}});
   }
-  return vj.str();
+  return vj;
 }
 
 // The FEM refinement studies; returns the manifest's list of files.
-std::string run_convergence_studies(const SuiteTier& tier, const std::vector<Spec>& specs, const fs::path& dir,
-                                    const SuiteOptions& o) {
-  std::ostringstream cj;
+tbio::Json run_convergence_studies(const SuiteTier& tier, const std::vector<Spec>& specs, const fs::path& dir,
+                                   const SuiteOptions& o) {
+  tbio::Json cj = tbio::Json::array();
   for (size_t k = 0; k < tier.convergence.size(); ++k) {
     const auto& cv = tier.convergence[k];
     const Spec& spec = specs[k];
@@ -461,33 +472,35 @@ std::string run_convergence_studies(const SuiteTier& tier, const std::vector<Spe
     write_convergence_json(st, json);
     log_line(o, "  observed order " + json_number(st.observed_order, 3) + ", estimated finest-level error " +
                json_number(100.0 * st.finest_relative_error, 3) + " %");
-    cj << (k ? ", " : "") << json_string(fs::relative(json, dir).string());
+    cj.push_back(fs::relative(json, dir).string());
   }
-  return cj.str();
+  return cj;
 }
 
-// The manifest's parts, each JSON text from the runs above.
+// The manifest's parts, each a JSON array from the runs above.
 struct ManifestParts {
-  std::string benchmarks, sweeps, stability, verification, convergence;
+  tbio::Json benchmarks, sweeps, stability, verification, convergence;
 };
 
-// Writes DIR/suite.json (through a temporary file, renamed when complete).
+// Writes DIR/suite.json (whole or not at all).
 std::string write_manifest(const SuiteTier& tier, const fs::path& dir, double wall, const ManifestParts& parts,
                            int failed) {
   const std::string manifest = (dir / "suite.json").string();
-  {
-    std::ofstream m(manifest + ".tmp");
-    m << "{\n  \"tier\": " << json_string(tier.name) << ",\n  \"description\": " << json_string(tier.description)
-      << ",\n  \"tier_file\": " << json_string(tier.file) << ",\n  \"created\": " << json_string(utc_now())
-      << ",\n  \"wall_seconds\": " << json_number(wall, 5) << ",\n  \"provenance\": " << provenance_json()
-      << ",\n  \"variants\": [";
-    for (size_t v = 0; v < tier.variants.size(); ++v) m << (v ? ", " : "") << json_string(tier.variants[v]);
-    m << "],\n  \"benchmarks\": [\n" << parts.benchmarks << "\n  ],\n  \"sweeps\": [" << parts.sweeps
-      << "],\n  \"stability\": [" << parts.stability << "],\n  \"verification\": [\n" << parts.verification
-      << "\n  ],\n  \"convergence\": [" << parts.convergence << "],\n  \"failed_runs\": " << failed << "\n}\n";
-    if (!m) throw msd::Error(manifest + ": cannot write");
-  }
-  fs::rename(manifest + ".tmp", manifest);
+  tbio::Json m;
+  m["tier"] = tier.name;
+  m["description"] = tier.description;
+  m["tier_file"] = tier.file;
+  m["created"] = utc_now();
+  m["wall_seconds"] = tbio::rounded(wall, 5);
+  m["provenance"] = provenance_json();
+  m["variants"] = tier.variants;
+  m["benchmarks"] = parts.benchmarks;
+  m["sweeps"] = parts.sweeps;
+  m["stability"] = parts.stability;
+  m["verification"] = parts.verification;
+  m["convergence"] = parts.convergence;
+  m["failed_runs"] = failed;
+  tbio::write_json_file(manifest, m);
   return manifest;
 }
 

@@ -5,6 +5,8 @@
 #include "bench/shared_io.hpp"
 #include "fem/fem.hpp"
 #include "msd/integrate/step.hpp"
+#include "msd/io/atomic_file.hpp"
+#include "tbio/json.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -489,55 +491,65 @@ SweepResult run_sweep(const Spec& spec, const SweepGrid& grid, const SweepOption
 }
 
 void write_sweep_json(const SweepResult& r, const std::string& path) {
-  const std::string tmp = path + ".partial";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw msd::Error(path + ": cannot write");
-    out << "{\n  \"spec\": " << json_string(r.spec) << ",\n  \"spec_path\": " << json_string(r.spec_path)
-        << ",\n  \"load_series\": " << json_string(r.load_series) << ",\n  \"load_rms_fem\": " << json_number(r.load_rms_fem)
-        << ",\n  \"reference\": " << json_string(r.reference_file) << ",\n  \"ranks\": " << r.ranks
-        << ",\n  \"baseline_rss_mb\": " << json_number(r.baseline_rss_mb) << ",\n  \"fem\": {\"label\": "
-        << json_string(r.fem.label) << ", \"dofs\": " << r.fem.dofs << ", \"cells\": " << r.fem.cells
-        << ", \"wall_seconds\": " << json_number(r.fem.wall_seconds) << ", \"simulated_seconds\": "
-        << json_number(r.fem.simulated_seconds) << ", \"cost\": " << json_number(r.fem.cost) << "},\n  \"fem_levels\": [";
-    for (size_t k = 0; k < r.fem_levels.size(); ++k) {
-      const FemCostRow& l = r.fem_levels[k];
-      out << (k ? ",\n    " : "\n    ") << "{\"label\": " << json_string(l.label) << ", \"degree\": " << l.degree
-          << ", \"refinement\": " << l.refinement << ", \"dofs\": " << l.dofs << ", \"cells\": " << l.cells
-          << ", \"wall_seconds\": " << json_number(l.wall_seconds) << ", \"simulated_seconds\": "
-          << json_number(l.simulated_seconds) << ", \"cost\": " << json_number(l.cost)
-          << ", \"load_rel_rms\": " << json_number(l.load_rel_rms) << ", \"file\": " << json_string(l.results_file) << "}";
-    }
-    out << (r.fem_levels.empty() ? "" : "\n  ") << "],\n  \"points\": [\n";
-    for (size_t k = 0; k < r.points.size(); ++k) {
-      const SweepPoint& p = r.points[k];
-      out << "    {\"id\": " << p.id << ", \"spacing\": " << json_number(p.spacing) << ", \"dt\": " << json_number(p.dt)
-          << ", \"integrator\": " << json_string(p.integrator) << ", \"terms\": " << json_string(p.terms)
-          << ", \"threshold\": " << json_number(p.threshold) << ", \"status\": " << json_string(p.status)
-          << ", \"failure\": " << json_string(p.failure) << ", \"failure_time\": " << json_number(p.failure_time)
-          << ", \"tets\": " << p.tets << ", \"nodes\": " << p.nodes << ", \"steps\": " << p.steps
-          << ", \"wall_seconds\": " << json_number(p.wall_seconds) << ", \"simulated_seconds\": " << json_number(p.simulated_seconds)
-          << ", \"cost\": " << json_number(p.cost) << ", \"peak_rss_mb\": " << json_number(p.peak_rss_mb)
-          << ", \"model_rss_mb\": " << json_number(p.model_rss_mb)
-          << ", \"load_rel_rms\": " << json_number(p.load_rel_rms) << ", \"load_rel_rms_working\": "
-          << json_number(p.load_rel_rms_working) << ", \"volume_ratio_max_error\": " << json_number(p.volume_ratio_max_error)
-          << ", \"displacement_rel_rms\": " << json_number(p.displacement_rel_rms) << ", \"frequency_rel_error\": "
-          << json_number(p.frequency_rel_error) << ", \"time_error\": " << json_number(p.time_error)
-          << ", \"max_inverted\": " << p.max_inverted << ", \"pareto\": " << (p.pareto ? "true" : "false")
-          << ", \"results_file\": " << json_string(p.results_file) << "}" << (k + 1 < r.points.size() ? "," : "")
-          << "\n";
-    }
-    out << "  ]\n}\n";
-    if (!out) throw msd::Error(path + ": write failed");
-  }
-  fs::rename(tmp, path);
+  tbio::Json j;
+  j["spec"] = r.spec;
+  j["spec_path"] = r.spec_path;
+  j["load_series"] = r.load_series;
+  j["load_rms_fem"] = r.load_rms_fem;
+  j["reference"] = r.reference_file;
+  j["ranks"] = r.ranks;
+  j["baseline_rss_mb"] = r.baseline_rss_mb;
+  j["fem"] = {{"label", r.fem.label},
+              {"dofs", r.fem.dofs},
+              {"cells", r.fem.cells},
+              {"wall_seconds", r.fem.wall_seconds},
+              {"simulated_seconds", r.fem.simulated_seconds},
+              {"cost", r.fem.cost}};
+  j["fem_levels"] = tbio::Json::array();
+  for (const FemCostRow& l : r.fem_levels)
+    j["fem_levels"].push_back({{"label", l.label},
+                               {"degree", l.degree},
+                               {"refinement", l.refinement},
+                               {"dofs", l.dofs},
+                               {"cells", l.cells},
+                               {"wall_seconds", l.wall_seconds},
+                               {"simulated_seconds", l.simulated_seconds},
+                               {"cost", l.cost},
+                               {"load_rel_rms", l.load_rel_rms},
+                               {"file", l.results_file}});
+  j["points"] = tbio::Json::array();
+  for (const SweepPoint& p : r.points)
+    j["points"].push_back({{"id", p.id},
+                           {"spacing", p.spacing},
+                           {"dt", p.dt},
+                           {"integrator", p.integrator},
+                           {"terms", p.terms},
+                           {"threshold", p.threshold},
+                           {"status", p.status},
+                           {"failure", p.failure},
+                           {"failure_time", p.failure_time},
+                           {"tets", p.tets},
+                           {"nodes", p.nodes},
+                           {"steps", p.steps},
+                           {"wall_seconds", p.wall_seconds},
+                           {"simulated_seconds", p.simulated_seconds},
+                           {"cost", p.cost},
+                           {"peak_rss_mb", p.peak_rss_mb},
+                           {"model_rss_mb", p.model_rss_mb},
+                           {"load_rel_rms", p.load_rel_rms},
+                           {"load_rel_rms_working", p.load_rel_rms_working},
+                           {"volume_ratio_max_error", p.volume_ratio_max_error},
+                           {"displacement_rel_rms", p.displacement_rel_rms},
+                           {"frequency_rel_error", p.frequency_rel_error},
+                           {"time_error", p.time_error},
+                           {"max_inverted", p.max_inverted},
+                           {"pareto", p.pareto},
+                           {"results_file", p.results_file}});
+  tbio::write_json_file(path, j);
 }
 
 void write_sweep_csv(const SweepResult& r, const std::string& path) {
-  const std::string tmp = path + ".partial";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw msd::Error(path + ": cannot write");
+  msd::write_file_atomically(path, [&](std::ostream& out) {
     out << "id,spacing,dt,integrator,terms,threshold,status,failure_time,tets,nodes,steps,wall_seconds,"
            "simulated_seconds,cost,peak_rss_mb,model_rss_mb,load_rel_rms,load_rel_rms_working,volume_ratio_max_error,"
            "displacement_rel_rms,frequency_rel_error,time_error,max_inverted,pareto\n";
@@ -549,8 +561,7 @@ void write_sweep_csv(const SweepResult& r, const std::string& path) {
           << c(p.peak_rss_mb) << "," << c(p.model_rss_mb) << "," << c(p.load_rel_rms) << "," << c(p.load_rel_rms_working) << ","
           << c(p.volume_ratio_max_error) << "," << c(p.displacement_rel_rms) << "," << c(p.frequency_rel_error)
           << "," << c(p.time_error) << "," << p.max_inverted << "," << (p.pareto ? 1 : 0) << "\n";
-  }
-  fs::rename(tmp, path);
+  });
 }
 
 std::string format_sweep(const SweepResult& r) {

@@ -12,6 +12,7 @@
 
 #include "bench/msd_runner.hpp"
 #include "bench/spec.hpp"
+#include "tbio/json.hpp"
 
 #include <functional>
 #include <string>
@@ -77,7 +78,7 @@ struct SuiteOptions {
 /// msd::Error on bad input before anything runs, or when an FEM reference fails.
 int run_suite(const SuiteTier& tier, const SuiteOptions& options);
 
-/// The machine and tool versions recorded as provenance (JSON object text).
-std::string provenance_json();
+/// The machine and tool versions recorded as provenance (a JSON object).
+tbio::Json provenance_json();
 
 }  // namespace bench
