@@ -9,7 +9,9 @@
 namespace tbio {
 
 void write_json_file(const std::string& path, const Json& value) {
-  msd::write_file_atomically(path, [&](std::ostream& out) { out << value.dump(2) << '\n'; });
+  // Invalid UTF-8 in a string (a path, a message) is replaced, not a reason to lose the file.
+  const std::string text = value.dump(2, ' ', false, Json::error_handler_t::replace);
+  msd::write_file_atomically(path, [&](std::ostream& out) { out << text << '\n'; });
 }
 
 Json rounded(double value, int digits) {

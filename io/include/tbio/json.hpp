@@ -1,7 +1,7 @@
 // The one JSON writer of the project (summaries, suite and sweep tables):
 // nlohmann::json (Debian's nlohmann-json3-dev) with keys kept in insertion
 // order, written whole-or-nothing (msd/io/atomic_file.hpp). NaN and infinity
-// are written as null.
+// are written as null; invalid UTF-8 in a string is replaced (U+FFFD).
 #pragma once
 
 #include <nlohmann/json.hpp>
