@@ -16,14 +16,17 @@ namespace fs = std::filesystem;
 
 namespace {
 
-Eigen::Vector3d vec3(const Fields& f, const std::string& key) {
-  const std::vector<double> v = f.number_list(key);
-  if (v.size() != 3) throw msd::Error(f.where(key) + "expected three numbers [x, y, z]");
-  return Eigen::Vector3d(v[0], v[1], v[2]);
-}
+// A field read through its declaration (spec_parameters.cpp).
+double number(const Fields& f, const char* path) { return tbio::read_number(f, spec_parameter(path)); }
+long integer(const Fields& f, const char* path) { return tbio::read_integer(f, spec_parameter(path)); }
+Eigen::Vector3d vector3(const Fields& f, const char* path) { return tbio::read_vector3(f, spec_parameter(path)); }
+std::string choice(const Fields& f, const char* path) { return tbio::read_choice(f, spec_parameter(path)); }
 
-void positive(const Fields& f, const std::string& key, double v, const std::string& unit) {
-  if (!(v > 0.0)) throw msd::Error(f.where(key) + "must be positive (" + unit + "), got " + std::to_string(v));
+// A declared number without a default: empty when the field is absent.
+std::optional<double> optional_number(const Fields& f, const char* path) {
+  const tbio::Parameter& p = spec_parameter(path);
+  if (!f.has(p.key())) return std::nullopt;
+  return tbio::read_number(f, p);
 }
 
 void one_of(const Fields& f, const std::string& key, const std::string& v,
@@ -37,20 +40,15 @@ void one_of(const Fields& f, const std::string& key, const std::string& v,
 
 GeometrySpec parse_geometry(const Fields& f, const std::string& source) {
   GeometrySpec g;
-  g.shape = f.text("shape");
-  one_of(f, "shape", g.shape, {"cylinder", "box", "cooks_membrane", "obj"});
+  g.shape = choice(f, "geometry.shape");
   if (g.shape == "cylinder") {
     f.only({"shape", "radius", "height", "segments"});
-    g.radius = f.number("radius");
-    positive(f, "radius", g.radius, "m");
-    g.height = f.number("height");
-    positive(f, "height", g.height, "m");
-    g.segments = static_cast<int>(f.integer_or("segments", 64));
-    if (g.segments < 3 || g.segments > 100000)
-      throw msd::Error(f.where("segments") + "must be between 3 and 100000");
+    g.radius = number(f, "geometry.radius");
+    g.height = number(f, "geometry.height");
+    g.segments = static_cast<int>(integer(f, "geometry.segments"));
   } else if (g.shape == "box") {
     f.only({"shape", "size"});
-    g.size = vec3(f, "size");
+    g.size = vector3(f, "geometry.size");
     for (int a = 0; a < 3; ++a)
       if (!(g.size[a] > 0.0)) throw msd::Error(f.where("size") + "every side must be positive (m)");
   } else if (g.shape == "cooks_membrane") {
@@ -67,13 +65,10 @@ GeometrySpec parse_geometry(const Fields& f, const std::string& source) {
 MeshSpec parse_mesh(const Fields& f) {
   f.only({"spacing", "rule", "origin", "max_cubes"});
   MeshSpec m;
-  m.spacing = f.number("spacing");
-  positive(f, "spacing", m.spacing, "m");
-  m.rule = f.text_or("rule", m.rule);
-  one_of(f, "rule", m.rule, {"centre", "center", "inside", "overlap"});
-  if (f.has("origin")) m.origin = vec3(f, "origin");
-  m.max_cubes = f.integer_or("max_cubes", m.max_cubes);
-  if (m.max_cubes < 1) throw msd::Error(f.where("max_cubes") + "must be at least 1");
+  m.spacing = number(f, "mesh.spacing");
+  m.rule = choice(f, "mesh.rule");
+  if (f.has("origin")) m.origin = vector3(f, "mesh.origin");
+  m.max_cubes = integer(f, "mesh.max_cubes");
   return m;
 }
 
@@ -106,31 +101,16 @@ MaterialSpec parse_material(const Fields& given) {
   const Fields f = given.has("library") ? Fields(library_material(given), "material", given.file()) : given;
   MaterialSpec m;
   m.name = f.text_or("name", "");
-  m.density = f.number("density");
-  positive(f, "density", m.density, "kg/m^3");
-  if (f.has("youngs_modulus")) {
-    m.youngs_modulus = f.number("youngs_modulus");
-    positive(f, "youngs_modulus", *m.youngs_modulus, "Pa");
-  }
-  if (f.has("poisson_ratio")) {
-    m.poisson_ratio = f.number("poisson_ratio");
-    if (!(*m.poisson_ratio > -1.0 && *m.poisson_ratio < 0.5))
-      throw msd::Error(f.where("poisson_ratio") + "must lie in (-1, 0.5)");
-  }
-  for (const char* k : {"shear_modulus", "bulk_modulus"})
-    if (f.has(k)) {
-      const double v = f.number(k);
-      positive(f, k, v, "Pa");
-      (std::string(k) == "shear_modulus" ? m.shear_modulus : m.bulk_modulus) = v;
-    }
+  m.density = number(f, "material.density");
+  m.youngs_modulus = optional_number(f, "material.youngs_modulus");
+  m.poisson_ratio = optional_number(f, "material.poisson_ratio");
+  m.shear_modulus = optional_number(f, "material.shear_modulus");
+  m.bulk_modulus = optional_number(f, "material.bulk_modulus");
   if (m.shear_modulus.has_value() != m.bulk_modulus.has_value())
     throw msd::Error(f.where() + "give shear_modulus and bulk_modulus together");
   if (m.shear_modulus && (m.youngs_modulus || m.poisson_ratio))
     throw msd::Error(f.where() + "give either youngs_modulus/poisson_ratio or shear_modulus/bulk_modulus, not both");
-  if (f.has("damping_time")) {
-    m.damping_time = f.number("damping_time");
-    if (*m.damping_time < 0.0) throw msd::Error(f.where("damping_time") + "must be >= 0 (s)");
-  }
+  m.damping_time = optional_number(f, "material.damping_time");
   return m;
 }
 
@@ -139,8 +119,7 @@ MsdSpec parse_msd(const Fields& f) {
           "volume_factor", "damping_time", "repulsion_floor", "mass_lumping", "terms", "nonlinear_threshold",
           "integrator", "dt", "calibration", "rtol", "atol"});
   MsdSpec m;
-  m.constants = f.text_or("constants", m.constants);
-  one_of(f, "constants", m.constants, {"raw", "physical"});
+  m.constants = choice(f, "msd.constants");
   const bool raw = m.constants == "raw";
   for (const char* k : {"k_s", "k_d", "k_r", "k_v"})
     if (!raw && f.has(k))
@@ -155,68 +134,40 @@ MsdSpec parse_msd(const Fields& f) {
     m.calibration = f.text("calibration");
   }
   if (raw) {
-    m.k_s = f.number("k_s");
-    positive(f, "k_s", m.k_s, "N/m");
-    m.k_d = f.number_or("k_d", 0.0);
-    m.k_r = f.number_or("k_r", 0.0);
-    m.k_v = f.number_or("k_v", 0.0);
-    for (const char* k : {"k_d", "k_r", "k_v"})
-      if (f.number_or(k, 0.0) < 0.0) throw msd::Error(f.where(k) + "must be >= 0");
+    m.k_s = number(f, "msd.k_s");
+    m.k_d = number(f, "msd.k_d");
+    m.k_r = number(f, "msd.k_r");
+    m.k_v = number(f, "msd.k_v");
   } else {
-    m.stiffness_scale = f.number_or("stiffness_scale", 1.0);
-    positive(f, "stiffness_scale", m.stiffness_scale, "dimensionless");
-    m.repulsion_factor = f.number_or("repulsion_factor", 0.0);
-    m.volume_factor = f.number_or("volume_factor", 0.0);
-    for (const char* k : {"repulsion_factor", "volume_factor"})
-      if (f.number_or(k, 0.0) < 0.0) throw msd::Error(f.where(k) + "must be >= 0");
-    if (f.has("damping_time")) {
-      m.damping_time = f.number("damping_time");
-      if (!(*m.damping_time >= 0.0)) throw msd::Error(f.where("damping_time") + "must be >= 0 (s)");
-    }
+    m.stiffness_scale = number(f, "msd.stiffness_scale");
+    m.repulsion_factor = number(f, "msd.repulsion_factor");
+    m.volume_factor = number(f, "msd.volume_factor");
+    m.damping_time = optional_number(f, "msd.damping_time");
   }
-  m.repulsion_floor = f.number_or("repulsion_floor", m.repulsion_floor);
-  if (!(m.repulsion_floor > 0.0 && m.repulsion_floor < 1.0))
-    throw msd::Error(f.where("repulsion_floor") + "must lie in (0, 1)");
-  m.mass_lumping = f.text_or("mass_lumping", m.mass_lumping);
-  one_of(f, "mass_lumping", m.mass_lumping, {"per_tet", "equal"});
+  m.repulsion_floor = number(f, "msd.repulsion_floor");
+  m.mass_lumping = choice(f, "msd.mass_lumping");
   if (f.has("terms")) {
     m.terms = f.text_list("terms");
     for (const auto& t : m.terms)
       one_of(f, "terms", t, {"springs", "dampers", "repulsion", "volume"});
   }
   if (f.has("nonlinear_threshold")) {
+    // `off` (or `false`) is the default, 0; otherwise a fraction in (0, 1].
     const YAML::Node n = f.node()["nonlinear_threshold"];
-    if (n.IsScalar() && (n.Scalar() == "off" || n.Scalar() == "false")) {
-      m.nonlinear_threshold = 0.0;
-    } else {
-      m.nonlinear_threshold = f.number("nonlinear_threshold");
-      if (!(m.nonlinear_threshold > 0.0 && m.nonlinear_threshold <= 1.0))
-        throw msd::Error(f.where("nonlinear_threshold") + "must be 'off' or in (0, 1]");
-    }
+    const bool off = n.IsScalar() && (n.Scalar() == "off" || n.Scalar() == "false");
+    m.nonlinear_threshold = off ? 0.0 : number(f, "msd.nonlinear_threshold");
   }
-  m.integrator = f.text_or("integrator", m.integrator);
-  one_of(f, "integrator", m.integrator,
-         {"explicit_euler", "symplectic_euler", "semi_implicit_euler", "velocity_verlet", "cvode"});
+  m.integrator = choice(f, "msd.integrator");
   if (m.integrator == "cvode") {
-    m.rtol = f.number_or("rtol", m.rtol);
-    m.atol = f.number_or("atol", m.atol);
-    positive(f, "rtol", m.rtol, "dimensionless");
-    positive(f, "atol", m.atol, "m");
+    m.rtol = number(f, "msd.rtol");
+    m.atol = number(f, "msd.atol");
     if (f.has("dt")) throw msd::Error(f.where("dt") + "cvode chooses its own steps (give rtol and atol instead)");
   } else {
     for (const char* k : {"rtol", "atol"})
       if (f.has(k)) throw msd::Error(f.where(k) + "only meaningful with 'integrator: cvode'");
-    m.dt = f.number("dt");
-    positive(f, "dt", m.dt, "s");
+    m.dt = number(f, "msd.dt");
   }
   return m;
-}
-
-unsigned unsigned_field(const Fields& f, const std::string& key, unsigned fallback, unsigned lo, unsigned hi) {
-  const long v = f.integer_or(key, fallback);
-  if (v < static_cast<long>(lo) || v > static_cast<long>(hi))
-    throw msd::Error(f.where(key) + "must be between " + std::to_string(lo) + " and " + std::to_string(hi));
-  return static_cast<unsigned>(v);
 }
 
 FemSpec parse_fem(const Fields& f) {
@@ -224,10 +175,9 @@ FemSpec parse_fem(const Fields& f) {
           "increment_tolerance", "max_iterations", "max_cuts", "max_increment", "relative_tolerance",
           "absolute_tolerance", "rayleigh_mass", "contact_penalty", "vtu"});
   FemSpec m;
-  m.formulation = f.text_or("formulation", m.formulation);
-  one_of(f, "formulation", m.formulation, {"three_field", "displacement"});
-  m.degree = unsigned_field(f, "degree", m.degree, 1, 3);
-  m.refinement = unsigned_field(f, "refinement", m.refinement, 0, 8);
+  m.formulation = choice(f, "fem.formulation");
+  m.degree = static_cast<unsigned>(integer(f, "fem.degree"));
+  m.refinement = static_cast<unsigned>(integer(f, "fem.refinement"));
   if (f.has("cells")) {
     const std::vector<double> c = f.number_list("cells");
     if (c.size() != 3) throw msd::Error(f.where("cells") + "expected three cell counts [nx, ny, nz]");
@@ -239,28 +189,20 @@ FemSpec parse_fem(const Fields& f) {
     }
     m.cells = cells;
   }
-  m.linear_solver = f.text_or("linear_solver", m.linear_solver);
-  one_of(f, "linear_solver", m.linear_solver, {"direct", "amg"});
-  for (const char* k : {"residual_tolerance", "increment_tolerance", "relative_tolerance", "absolute_tolerance"})
-    if (f.has(k) && !(f.number(k) > 0.0 && f.number(k) < 1.0)) throw msd::Error(f.where(k) + "must lie in (0, 1)");
-  m.residual_tolerance = f.number_or("residual_tolerance", m.residual_tolerance);
-  m.increment_tolerance = f.number_or("increment_tolerance", m.increment_tolerance);
-  m.relative_tolerance = f.number_or("relative_tolerance", m.relative_tolerance);
-  m.absolute_tolerance = f.number_or("absolute_tolerance", m.absolute_tolerance);
-  m.max_iterations = unsigned_field(f, "max_iterations", m.max_iterations, 1, 1000);
-  m.max_cuts = unsigned_field(f, "max_cuts", m.max_cuts, 0, 30);
-  m.max_increment = f.number_or("max_increment", 0.0);
-  if (m.max_increment < 0.0) throw msd::Error(f.where("max_increment") + "must be >= 0");
-  m.rayleigh_mass = f.number_or("rayleigh_mass", 0.0);
-  if (m.rayleigh_mass < 0.0) throw msd::Error(f.where("rayleigh_mass") + "must be >= 0 (1/s)");
-  m.contact_penalty = f.number_or("contact_penalty", m.contact_penalty);
-  if (!(m.contact_penalty >= 1.0 && m.contact_penalty <= 1e8))
-    throw msd::Error(f.where("contact_penalty") + "must lie in [1, 1e8] (a multiple of E / h)");
-  if (f.has("vtu")) {
-    const std::string v = f.text("vtu");
-    if (v != "true" && v != "false") throw msd::Error(f.where("vtu") + "expected true or false");
-    m.vtu = v == "true";
-  }
+  m.linear_solver = choice(f, "fem.linear_solver");
+  m.residual_tolerance = number(f, "fem.residual_tolerance");
+  m.increment_tolerance = number(f, "fem.increment_tolerance");
+  m.relative_tolerance = number(f, "fem.relative_tolerance");
+  m.absolute_tolerance = number(f, "fem.absolute_tolerance");
+  m.max_iterations = static_cast<unsigned>(integer(f, "fem.max_iterations"));
+  m.max_cuts = static_cast<unsigned>(integer(f, "fem.max_cuts"));
+  m.max_increment = number(f, "fem.max_increment");
+  m.rayleigh_mass = number(f, "fem.rayleigh_mass");
+  m.contact_penalty = number(f, "fem.contact_penalty");
+  // Only the words true and false, as before (read_flag alone would also take yes, on, ...).
+  if (f.has("vtu") && f.text("vtu") != "true" && f.text("vtu") != "false")
+    throw msd::Error(f.where("vtu") + "expected true or false");
+  m.vtu = tbio::read_flag(f, spec_parameter("fem.vtu"));
   return m;
 }
 
@@ -282,21 +224,30 @@ std::vector<std::pair<double, double>> parse_path(const Fields& f) {
   return path;
 }
 
-Loading loading_type(const Fields& f) {
-  const std::string name = f.text("type");
-  if (const std::optional<Loading> l = find_loading(name)) return *l;
-  throw msd::Error(f.where("type") + "'" + name + "' is not one of: " + loading_names());
+// A dead load {face, force} (static, vibration with preload).
+void parse_traction(const Fields& t, LoadingSpec& l) {
+  t.only({"face", "force"});
+  l.traction_face = choice(t, "loading.traction.face");
+  l.traction = vector3(t, "loading.traction.force");
+}
+
+void parse_indenter(const Fields& ind, LoadingSpec& l) {
+  ind.only({"shape", "radius", "axis", "depth", "response"});
+  choice(ind, "loading.indenter.shape");
+  l.indenter_radius = number(ind, "loading.indenter.radius");
+  l.indenter_depth = number(ind, "loading.indenter.depth");
+  l.indenter_axis = choice(ind, "loading.indenter.axis");
+  l.indenter_response = choice(ind, "loading.indenter.response");
 }
 
 LoadingSpec parse_loading(const Fields& f) {
   LoadingSpec l;
-  l.type = loading_type(f);
-  const std::vector<std::string> faces{"left", "right", "front", "back", "bottom", "top"};
+  l.type = *find_loading(choice(f, "loading.type"));
+  const std::vector<std::pair<double, double>> unit_ramp{{0.0, 0.0}, {1.0, 1.0}};
   switch (l.type) {
     case Loading::Uniaxial: {
       f.only({"type", "platens", "path", "gravity"});
-      l.platens = f.text_or("platens", l.platens);
-      one_of(f, "platens", l.platens, {"bonded", "frictionless"});
+      l.platens = choice(f, "loading.platens");
       l.path = parse_path(f);
       for (const auto& [t, e] : l.path)
         if (!(e > -1.0)) throw msd::Error(f.where("path") + "nominal strain must stay above -1");
@@ -304,45 +255,29 @@ LoadingSpec parse_loading(const Fields& f) {
     }
     case Loading::SimpleShear: {
       f.only({"type", "boundary", "path"});
-      l.boundary = f.text_or("boundary", l.boundary);
-      one_of(f, "boundary", l.boundary, {"platens", "homogeneous"});
+      l.boundary = choice(f, "loading.boundary");
       l.path = parse_path(f);
       break;
     }
     case Loading::CooksMembrane: {
       f.only({"type", "force", "path"});
-      l.force = f.number("force");
-      l.path = f.has("path") ? parse_path(f) : std::vector<std::pair<double, double>>{{0.0, 0.0}, {1.0, 1.0}};
+      l.force = number(f, "loading.force");
+      l.path = f.has("path") ? parse_path(f) : unit_ramp;
       break;
     }
     case Loading::Static: {
       f.only({"type", "fixed", "traction", "gravity", "path"});
-      l.fixed = f.text_or("fixed", l.fixed);
-      one_of(f, "fixed", l.fixed, faces);
+      l.fixed = choice(f, "loading.fixed");
       if (auto t = f.optional_section("traction")) {
-        t->only({"face", "force"});
-        l.traction_face = t->text("face");
-        one_of(*t, "face", l.traction_face, faces);
-        l.traction = vec3(*t, "force");
+        parse_traction(*t, l);
         if (l.traction_face == l.fixed) throw msd::Error(t->where("face") + "the traction face is the fixed face");
       }
-      l.path = f.has("path") ? parse_path(f) : std::vector<std::pair<double, double>>{{0.0, 0.0}, {1.0, 1.0}};
+      l.path = f.has("path") ? parse_path(f) : unit_ramp;
       break;
     }
     case Loading::Indentation: {
       f.only({"type", "indenter", "path"});
-      auto ind = f.section("indenter");
-      ind.only({"shape", "radius", "axis", "depth", "response"});
-      const std::string shape = ind.text_or("shape", "cylinder");
-      one_of(ind, "shape", shape, {"cylinder"});
-      l.indenter_radius = ind.number("radius");
-      positive(ind, "radius", l.indenter_radius, "m");
-      l.indenter_depth = ind.number("depth");
-      positive(ind, "depth", l.indenter_depth, "m");
-      l.indenter_axis = ind.text_or("axis", l.indenter_axis);
-      one_of(ind, "axis", l.indenter_axis, {"x", "y"});
-      l.indenter_response = ind.text_or("response", l.indenter_response);
-      one_of(ind, "response", l.indenter_response, {"stick", "frictionless"});
+      parse_indenter(f.section("indenter"), l);
       l.path = parse_path(f);
       for (const auto& [t, v] : l.path)
         if (!(v >= 0.0 && v <= 1.0)) throw msd::Error(f.where("path") + "depth factors must lie in [0, 1]");
@@ -350,29 +285,22 @@ LoadingSpec parse_loading(const Fields& f) {
     }
     case Loading::Vibration: {
       f.only({"type", "initial", "amplitude", "traction", "release", "duration", "gravity"});
-      l.initial = f.text_or("initial", l.initial);
-      one_of(f, "initial", l.initial, {"axial_mode", "axial_stretch", "preload"});
-      l.duration = f.number("duration");
-      positive(f, "duration", l.duration, "s");
+      l.initial = choice(f, "loading.initial");
+      l.duration = number(f, "loading.duration");
       if (l.initial == "preload") {
         // "Stretch, release, ring down": a dead load on a face, ramped over the
         // first half of [0, release], held, and removed at `release`.
-        auto t = f.section("traction");
-        t.only({"face", "force"});
-        l.traction_face = t.text("face");
-        one_of(t, "face", l.traction_face, faces);
-        l.traction = vec3(t, "force");
-        l.release = f.number("release");
-        positive(f, "release", l.release, "s");
+        parse_traction(f.section("traction"), l);
+        l.release = number(f, "loading.release");
         if (f.has("amplitude")) throw msd::Error(f.where("amplitude") + "not used with 'initial: preload'");
       } else {
-        l.amplitude = f.number("amplitude");
+        l.amplitude = number(f, "loading.amplitude");
       }
       l.path = {{0.0, 0.0}, {l.release + l.duration, 0.0}};
       break;
     }
   }
-  if (f.has("gravity")) l.gravity = vec3(f, "gravity");
+  l.gravity = vector3(f, "loading.gravity");
   return l;
 }
 
@@ -409,10 +337,8 @@ Spec parse_spec(const std::string& text, const std::string& source) {
   }
   if (auto o = f.optional_section("output")) {
     o->only({"interval", "fields_interval"});
-    s.output.interval = o->number("interval");
-    positive(*o, "interval", s.output.interval, "s");
-    s.output.fields_interval = o->number_or("fields_interval", 0.0);
-    if (s.output.fields_interval < 0.0) throw msd::Error(o->where("fields_interval") + "must be >= 0 (s)");
+    s.output.interval = number(*o, "output.interval");
+    s.output.fields_interval = number(*o, "output.fields_interval");
   }
   if (s.msd && !s.msd->calibration.empty()) {
     fs::path file = s.msd->calibration;

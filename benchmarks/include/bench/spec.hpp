@@ -5,6 +5,7 @@
 #pragma once
 
 #include "bench/loading.hpp"
+#include "tbio/parameter.hpp"
 
 #include <Eigen/Core>
 
@@ -131,6 +132,12 @@ struct Spec {
   LoadingSpec loading;
   OutputSpec output;
 };
+
+/// Every field of a spec, declared once (path, unit, default, range, doc);
+/// benchmarks/specs/README.md's field table is generated from it.
+const std::vector<tbio::Parameter>& spec_parameters();
+/// The declaration at `path` (throws std::logic_error if none: a reader's typo).
+const tbio::Parameter& spec_parameter(const std::string& path);
 
 /// Reads and validates a spec file. Throws msd::Error with file:line context.
 Spec load_spec(const std::string& path);
