@@ -7,11 +7,21 @@
 #include "msd/mesh/tet_mesh.hpp"
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <functional>
 #include <random>
 #include <string>
 
 namespace testing_support {
+
+/// The whole file at `path` as text ("" when it cannot be read).
+inline std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
 
 /// A random, positively oriented, reasonably shaped tet (quality > 0.2) near
 /// the origin with edges of about `scale`.

@@ -8,9 +8,6 @@
 // reader; the docs say when a field applies.
 #include "bench/spec.hpp"
 
-#include <cmath>
-#include <sstream>
-#include <stdexcept>
 
 namespace bench {
 
@@ -20,79 +17,8 @@ using tbio::Kind;
 using tbio::Parameter;
 using tbio::Range;
 
-std::string number_text(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
-std::string vec_text(const Eigen::Vector3d& v) {
-  std::ostringstream s;
-  s << "[" << v.x() << ", " << v.y() << ", " << v.z() << "]";
-  return s.str();
-}
-
-Parameter number(std::string path, std::string unit, std::optional<double> fallback, Range range, std::string doc) {
-  Parameter p;
-  p.path = std::move(path);
-  p.unit = std::move(unit);
-  p.fallback = fallback;
-  p.range = range;
-  p.doc = std::move(doc);
-  return p;
-}
-
-// A number without a default: absent means "not given" (or, with
-// `default_text`, what the docs say happens then).
-Parameter optional_number(std::string path, std::string unit, Range range, std::string doc,
-                          std::string default_text = "none") {
-  Parameter p = number(std::move(path), std::move(unit), std::nullopt, range, std::move(doc));
-  p.default_text = std::move(default_text);
-  return p;
-}
-
-Parameter integer(std::string path, double fallback, Range range, std::string doc) {
-  Parameter p = number(std::move(path), "1", fallback, range, std::move(doc));
-  p.kind = Kind::Integer;
-  return p;
-}
-
-Parameter vector3(std::string path, std::string unit, std::optional<Eigen::Vector3d> fallback, std::string doc,
-                  std::string default_text = "") {
-  Parameter p;
-  p.path = std::move(path);
-  p.kind = Kind::Vector3;
-  p.unit = std::move(unit);
-  if (fallback) {
-    p.fallback3 = *fallback;
-    p.default_text = vec_text(*fallback);
-  } else {
-    p.default_text = std::move(default_text);
-  }
-  p.doc = std::move(doc);
-  return p;
-}
-
-// A word out of `choices`; `fallback` empty: required.
-Parameter choice(std::string path, std::vector<std::string> choices, std::string fallback, std::string doc) {
-  Parameter p;
-  p.path = std::move(path);
-  p.kind = Kind::Choice;
-  p.choices = std::move(choices);
-  p.default_text = std::move(fallback);
-  p.doc = std::move(doc);
-  return p;
-}
-
-Parameter other(std::string path, Kind kind, std::string unit, std::string default_text, std::string doc) {
-  Parameter p;
-  p.path = std::move(path);
-  p.kind = kind;
-  p.unit = std::move(unit);
-  p.default_text = std::move(default_text);
-  p.doc = std::move(doc);
-  return p;
-}
+using namespace tbio::declare;
+using tbio::number_text;
 
 std::vector<std::string> loading_choices() {
   std::vector<std::string> names;
@@ -167,11 +93,7 @@ std::vector<Parameter> declare_fem() {
       number("fem.max_increment", "s", fem.max_increment, Range::non_negative(), "load-time units; 0: one increment per output interval"),
       number("fem.rayleigh_mass", "1/s", fem.rayleigh_mass, Range::non_negative(), "C = rayleigh_mass M + damping_time K0"),
       number("fem.contact_penalty", "1", fem.contact_penalty, Range::closed(1, 1e8), "indentation: penalty = this * E / h_e (h_e = cell size / degree)"),
-      [&] {
-        Parameter b = other("fem.vtu", Kind::Flag, "", "", "write FILE_vtu/NAME.pvd for ParaView");
-        b.fallback = fem.vtu ? 1.0 : 0.0;
-        return b;
-      }(),
+      flag("fem.vtu", fem.vtu, "write FILE_vtu/NAME.pvd for ParaView"),
   };
 }
 
@@ -218,9 +140,7 @@ const std::vector<tbio::Parameter>& spec_parameters() {
 }
 
 const tbio::Parameter& spec_parameter(const std::string& path) {
-  for (const tbio::Parameter& p : spec_parameters())
-    if (p.path == path) return p;
-  throw std::logic_error("spec parameter '" + path + "' is not declared");
+  return tbio::find_parameter(spec_parameters(), path, "spec");
 }
 
 }  // namespace bench

@@ -4,10 +4,9 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 namespace tbio {
-
-namespace {
 
 std::string number_text(double v) {
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
@@ -16,7 +15,9 @@ std::string number_text(double v) {
   return s.str();
 }
 
-}  // namespace
+std::string vector_text(const Eigen::Vector3d& v) {
+  return "[" + number_text(v.x()) + ", " + number_text(v.y()) + ", " + number_text(v.z()) + "]";
+}
 
 bool Range::contains(double v) const {
   if (!std::isfinite(v)) return false;
@@ -106,5 +107,69 @@ std::string markdown_table(const std::vector<Parameter>& params) {
   }
   return o.str();
 }
+
+const Parameter& find_parameter(const std::vector<Parameter>& params, const std::string& path, const std::string& what) {
+  for (const Parameter& p : params)
+    if (p.path == path) return p;
+  throw std::logic_error(what + " parameter '" + path + "' is not declared");
+}
+
+namespace declare {
+
+Parameter number(std::string path, std::string unit, std::optional<double> fallback, Range range, std::string doc) {
+  Parameter p;
+  p.path = std::move(path);
+  p.unit = std::move(unit);
+  p.fallback = fallback;
+  p.range = range;
+  p.doc = std::move(doc);
+  return p;
+}
+
+Parameter optional_number(std::string path, std::string unit, Range range, std::string doc, std::string default_text) {
+  Parameter p = number(std::move(path), std::move(unit), std::nullopt, range, std::move(doc));
+  p.default_text = std::move(default_text);
+  return p;
+}
+
+Parameter integer(std::string path, double fallback, Range range, std::string doc) {
+  Parameter p = number(std::move(path), "1", fallback, range, std::move(doc));
+  p.kind = Kind::Integer;
+  return p;
+}
+
+Parameter vector3(std::string path, std::string unit, std::optional<Eigen::Vector3d> fallback, std::string doc,
+                  std::string default_text) {
+  Parameter p = other(std::move(path), Kind::Vector3, std::move(unit), std::move(default_text), std::move(doc));
+  if (fallback) {
+    p.fallback3 = *fallback;
+    p.default_text = vector_text(*fallback);
+  }
+  return p;
+}
+
+Parameter choice(std::string path, std::vector<std::string> choices, std::string fallback, std::string doc) {
+  Parameter p = other(std::move(path), Kind::Choice, "", std::move(fallback), std::move(doc));
+  p.choices = std::move(choices);
+  return p;
+}
+
+Parameter flag(std::string path, bool fallback, std::string doc) {
+  Parameter p = other(std::move(path), Kind::Flag, "", "", std::move(doc));
+  p.fallback = fallback ? 1.0 : 0.0;
+  return p;
+}
+
+Parameter other(std::string path, Kind kind, std::string unit, std::string default_text, std::string doc) {
+  Parameter p;
+  p.path = std::move(path);
+  p.kind = kind;
+  p.unit = std::move(unit);
+  p.default_text = std::move(default_text);
+  p.doc = std::move(doc);
+  return p;
+}
+
+}  // namespace declare
 
 }  // namespace tbio

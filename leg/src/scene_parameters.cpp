@@ -8,8 +8,6 @@
 #include "msd/material/tissue_material.hpp"
 
 #include <cmath>
-#include <sstream>
-#include <stdexcept>
 
 namespace leg {
 
@@ -19,75 +17,22 @@ using tbio::Kind;
 using tbio::Parameter;
 using tbio::Range;
 
-std::string vec_text(const msd::Vec3& v) {
-  std::ostringstream s;
-  s << "[" << v.x() << ", " << v.y() << ", " << v.z() << "]";
-  return s.str();
-}
-
-std::string number_text(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
+using namespace tbio::declare;
+using tbio::number_text;
 
 std::string degrees_text(double lo, double hi) {
   return "[" + number_text(lo * 180.0 / M_PI) + ", " + number_text(hi * 180.0 / M_PI) + "]";
-}
-
-Parameter number(std::string path, std::string unit, std::optional<double> fallback, Range range, std::string doc) {
-  Parameter p;
-  p.path = std::move(path);
-  p.unit = std::move(unit);
-  p.fallback = fallback;
-  p.range = range;
-  p.doc = std::move(doc);
-  return p;
-}
-
-// An optional number without a default: absent means the feature is off.
-Parameter optional_number(std::string path, std::string unit, Range range, std::string doc) {
-  Parameter p = number(std::move(path), std::move(unit), std::nullopt, range, std::move(doc));
-  p.default_text = "none";
-  return p;
-}
-
-Parameter vector3(std::string path, std::string unit, std::optional<msd::Vec3> fallback, std::string doc) {
-  Parameter p;
-  p.path = std::move(path);
-  p.kind = Kind::Vector3;
-  p.unit = std::move(unit);
-  if (fallback) {
-    p.fallback3 = *fallback;
-    p.default_text = vec_text(*fallback);
-  }
-  p.doc = std::move(doc);
-  return p;
-}
-
-Parameter other(std::string path, Kind kind, std::string unit, std::string default_text, std::string doc) {
-  Parameter p;
-  p.path = std::move(path);
-  p.kind = kind;
-  p.unit = std::move(unit);
-  p.default_text = std::move(default_text);
-  p.doc = std::move(doc);
-  return p;
 }
 
 std::vector<Parameter> declare() {
   const msd::LegModelOptions model;
   const msd::TissueMaterial material;
   const Range any = Range::any(), positive = Range::positive(), non_negative = Range::non_negative();
-  std::vector<Parameter> p = {
+  return {
       other("name", Kind::Text, "", "the file's stem", "the scene's name"),
       other("description", Kind::Text, "", "empty", "one line on what the scene shows"),
       other("geometry", Kind::Text, "", "msd/data/leg/leg.yaml", "a mesh scene (`tissuebench mesh`), relative to this file"),
-      [] {
-        Parameter b = other("mesh_pull", Kind::Flag, "", "", "apply the geometry's pull areas (thesis 4.6)");
-        b.fallback = 1.0;
-        return b;
-      }(),
+      flag("mesh_pull", true, "apply the geometry's pull areas (thesis 4.6)"),
       number("duration", "s", std::nullopt, positive, "simulated time"),
       number("dt", "s", std::nullopt, positive, "time step"),
       number("output_interval", "s", 0.04, positive, "time between recorded frames (the thesis' 1/25 s); a whole number of steps"),
@@ -116,11 +61,7 @@ std::vector<Parameter> declare() {
       number("tendons.modulus", "Pa", model.tendon_modulus, positive, "every strand's modulus"),
       other("tendons.moduli", Kind::List, "Pa", "none", "per-tendon overrides, by tendon name"),
       number("tendons.strand_area", "m^2", model.strand_area, positive, "cross-section per strand"),
-      [] {
-        Parameter c = other("tendons.insertions", Kind::Choice, "", "path", "bone ends at the paths' last points, or at the bone node the route reached (the thesis)");
-        c.choices = {"path", "nodes"};
-        return c;
-      }(),
+      choice("tendons.insertions", {"path", "nodes"}, "path", "bone ends at the paths' last points, or at the bone node the route reached (the thesis)"),
       optional_number("tendons.engage_at", "s", non_negative, "slack until then; then natural length = the path's length"),
       number("tendons.pretension.fraction", "1", std::nullopt, Range::closed_open(0, 1), "L0 -> (1 - fraction) L0"),
       number("tendons.pretension.start", "s", 0.0, non_negative, "when the pre-tension ramp starts"),
@@ -142,11 +83,8 @@ std::vector<Parameter> declare() {
       other("analysis.wobble.probe", Kind::List, "m", "none", "{lo, hi}: the flesh whose wobble is measured"),
       number("analysis.wobble.after", "s", 0.0, non_negative, "the wobble's ring-down from here on"),
       other("variants", Kind::List, "", "none", "runs differing in constant activation: {name, activation: {front, back}}"),
+      integer("outputs.obj_every", 1.0, non_negative, "an OBJ of the skin every n-th frame (0: none)"),
   };
-  Parameter obj = number("outputs.obj_every", "1", 1.0, non_negative, "an OBJ of the skin every n-th frame (0: none)");
-  obj.kind = Kind::Integer;
-  p.push_back(obj);
-  return p;
 }
 
 }  // namespace
@@ -157,9 +95,7 @@ const std::vector<tbio::Parameter>& leg_scene_parameters() {
 }
 
 const tbio::Parameter& leg_scene_parameter(const std::string& path) {
-  for (const tbio::Parameter& p : leg_scene_parameters())
-    if (p.path == path) return p;
-  throw std::logic_error("leg scene parameter '" + path + "' is not declared");
+  return tbio::find_parameter(leg_scene_parameters(), path, "leg scene");
 }
 
 }  // namespace leg

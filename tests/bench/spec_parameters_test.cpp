@@ -4,23 +4,13 @@
 #include "bench/spec.hpp"
 
 #include "msd/core/types.hpp"
+#include "parameter_checks.hpp"
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <filesystem>
-#include <fstream>
-#include <set>
-#include <sstream>
 
 namespace {
-
-std::string read(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 std::string error_of(const std::string& text, const std::string& source) {
   try {
@@ -50,19 +40,7 @@ std::string replace(std::string s, const std::string& from, const std::string& t
 }  // namespace
 
 TEST(SpecParameters, EachPathIsDeclaredOnceWithADocAndADefaultInItsRange) {
-  std::set<std::string> seen;
-  for (const tbio::Parameter& p : bench::spec_parameters()) {
-    SCOPED_TRACE(p.path);
-    EXPECT_TRUE(seen.insert(p.path).second) << "declared twice";
-    EXPECT_FALSE(p.doc.empty());
-    if ((p.kind == tbio::Kind::Number || p.kind == tbio::Kind::Integer) && p.fallback) {
-      EXPECT_TRUE(p.range.contains(*p.fallback)) << *p.fallback << " outside " << p.range.text();
-    }
-    if (p.kind == tbio::Kind::Choice && !p.default_text.empty()) {
-      EXPECT_NE(std::find(p.choices.begin(), p.choices.end(), p.default_text), p.choices.end()) << p.default_text;
-    }
-  }
-  EXPECT_GE(seen.size(), 70u);
+  EXPECT_GE(testing_support::expect_well_declared(bench::spec_parameters()), 70u);
   EXPECT_THROW(bench::spec_parameter("msd.dtt"), std::logic_error);
 }
 
@@ -82,20 +60,8 @@ TEST(SpecParameters, DefaultsAreTheSpecStructs) {
 }
 
 TEST(SpecParameters, TheReadmeFieldTableIsTheGeneratedOne) {
-  const std::string expected = tbio::markdown_table(bench::spec_parameters());
-  const std::string doc = read(std::string(TISSUEBENCH_SOURCE_DIR) + "/benchmarks/specs/README.md");
-  const std::string begin = "<!-- fields:begin (generated from benchmarks/src/spec_parameters.cpp) -->\n",
-                    end = "<!-- fields:end -->";
-  const size_t a = doc.find(begin), b = doc.find(end);
-  ASSERT_NE(a, std::string::npos) << "benchmarks/specs/README.md has no field table markers";
-  ASSERT_NE(b, std::string::npos);
-  const std::string table = doc.substr(a + begin.size(), b - a - begin.size());
-  if (table != expected) {
-    const std::string out = std::string(TB_TEST_OUTPUT_DIR) + "/spec_fields.md";
-    std::ofstream(out) << expected;
-    ADD_FAILURE() << "benchmarks/specs/README.md's field table differs from the declarations; the generated one is in "
-                  << out;
-  }
+  testing_support::expect_docs_table("benchmarks/specs/README.md", "benchmarks/src/spec_parameters.cpp",
+                                     bench::spec_parameters(), "spec_fields.md");
 }
 
 TEST(SpecParameters, AValueOutsideItsDeclaredRangeNamesFileLineFieldRangeAndUnit) {

@@ -5,6 +5,7 @@
 #include "leg/run.hpp"
 #include "leg/scene.hpp"
 #include "tbio/results_file.hpp"
+#include "test_support.hpp"
 
 #include <gtest/gtest.h>
 #include <hdf5.h>
@@ -20,18 +21,13 @@ namespace fs = std::filesystem;
 
 std::string scenes() { return std::string(TISSUEBENCH_DATA_DIR) + "/scenes/"; }
 
-std::string read(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing_support::read_text;
 
 // A scene file written next to the shipped scenes' folder layout (so its
 // relative paths resolve) from a shipped one with `edit` applied.
 std::string variant_of(const std::string& name, const std::string& from, const std::string& to,
                        const std::string& out) {
-  std::string text = read(scenes() + name + ".yaml");
+  std::string text = read_text(scenes() + name + ".yaml");
   const size_t at = text.find(from);
   EXPECT_NE(at, std::string::npos) << from;
   if (at != std::string::npos) text.replace(at, from.size(), to);
@@ -148,7 +144,7 @@ TEST(LegScene, AShortRunWritesSeriesFieldsXdmfObjFramesAndTheSummary) {
   ASSERT_TRUE(r.point_sets.count("skin"));
   EXPECT_EQ(r.point_sets.at("skin").second, 6);
   // XDMF: every dataset it names exists in leg.h5 with the dimensions it declares.
-  const std::string xdmf = read(dir + "/leg.xdmf");
+  const std::string xdmf = read_text(dir + "/leg.xdmf");
   const hid_t file = H5Fopen((dir + "/leg.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   ASSERT_GE(file, 0);
   const std::regex item("<DataItem Dimensions=\"([0-9 ]+)\"[^>]*Format=\"HDF\">leg\\.h5:([^<]+)</DataItem>");
@@ -167,10 +163,10 @@ TEST(LegScene, AShortRunWritesSeriesFieldsXdmfObjFramesAndTheSummary) {
   int objs = 0;
   for (const auto& e : fs::directory_iterator(dir + "/skin")) objs += e.path().extension() == ".obj";
   EXPECT_EQ(objs, 6);
-  const std::string obj = read(dir + "/skin/frame_0005.obj");
+  const std::string obj = read_text(dir + "/skin/frame_0005.obj");
   EXPECT_EQ(std::count(obj.begin(), obj.end(), 'f'), r.point_sets.at("skin").first > 0 ? 15744 : 0);
   // The summary, last.
-  const std::string summary = read(dir + "/summary.json");
+  const std::string summary = read_text(dir + "/summary.json");
   EXPECT_NE(summary.find("\"status\": \"complete\""), std::string::npos);
   EXPECT_NE(summary.find("\"knee_angle_trajectory_deg\""), std::string::npos);
   EXPECT_NE(summary.find("\"wall_per_simulated_second\""), std::string::npos);
@@ -193,7 +189,7 @@ TEST(LegScene, ABlownUpRunSaysWhenWhereAndWhyAndKeepsItsFrames) {
   EXPECT_EQ(r.status(), "failed");
   EXPECT_EQ(static_cast<long>(r.series.at("time").size()), runs[0].frames);
   EXPECT_GE(runs[0].frames, 1);
-  const std::string summary = read(dir + "/summary.json");
+  const std::string summary = read_text(dir + "/summary.json");
   EXPECT_NE(summary.find("\"status\": \"failed\""), std::string::npos);
   EXPECT_NE(summary.find("\"failure\""), std::string::npos);
 }

@@ -26,7 +26,6 @@ using tbio::tissuebench_version;
 
 using tbio::interpolate;
 using tbio::json_number;
-using tbio::json_string;
 
 using tbio::analyse_ring_down;
 using tbio::analyse_ring_down_after;

@@ -66,4 +66,38 @@ std::string read_choice(const Fields& f, const Parameter& p);
 /// A Markdown table of the parameters: | field | unit | default | range | what |.
 std::string markdown_table(const std::vector<Parameter>& params);
 
+/// The parameter declared at `path` in `params`; throws std::logic_error
+/// naming `what` (e.g. "spec") when it is not declared - a programming error.
+const Parameter& find_parameter(const std::vector<Parameter>& params, const std::string& path, const std::string& what);
+
+/// A number as the docs show it (stream default: six significant digits; "inf").
+std::string number_text(double v);
+/// "[x, y, z]" with number_text's digits.
+std::string vector_text(const Eigen::Vector3d& v);
+
+/// Builders for declaration tables: one call a parameter, each filling only
+/// the members its kind uses.
+namespace declare {
+
+/// A number; `fallback` none: required.
+Parameter number(std::string path, std::string unit, std::optional<double> fallback, Range range, std::string doc);
+/// A number without a default: absent means "not given" (or, with
+/// `default_text`, what the docs say happens then).
+Parameter optional_number(std::string path, std::string unit, Range range, std::string doc,
+                          std::string default_text = "none");
+/// A dimensionless whole number with a default.
+Parameter integer(std::string path, double fallback, Range range, std::string doc);
+/// A vector; `fallback` none: required, or `default_text` says what happens.
+Parameter vector3(std::string path, std::string unit, std::optional<Eigen::Vector3d> fallback, std::string doc,
+                  std::string default_text = "");
+/// A word out of `choices`; `fallback` empty: required.
+Parameter choice(std::string path, std::vector<std::string> choices, std::string fallback, std::string doc);
+/// true or false, with a default.
+Parameter flag(std::string path, bool fallback, std::string doc);
+/// A Text or List (or a number with special words) the reader parses itself,
+/// declared for its documentation.
+Parameter other(std::string path, Kind kind, std::string unit, std::string default_text, std::string doc);
+
+}  // namespace declare
+
 }  // namespace tbio

@@ -32,18 +32,4 @@ inline std::string json_number(double v, int precision = 10) {
   return s.str();
 }
 
-/// A JSON string literal (quotes, backslashes and newlines escaped).
-inline std::string json_string(const std::string& text) {
-  std::string o = "\"";
-  for (char c : text) {
-    if (c == '\n') {
-      o += "\\n";
-      continue;
-    }
-    if (c == '"' || c == '\\') o += '\\';
-    o += c;
-  }
-  return o + "\"";
-}
-
 }  // namespace tbio

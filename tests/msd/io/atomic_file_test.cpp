@@ -3,6 +3,7 @@
 #include "msd/io/atomic_file.hpp"
 
 #include "msd/core/types.hpp"
+#include "test_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,12 +16,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string read(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing_support::read_text;
 
 std::string folder(const std::string& name) {
   const fs::path d = fs::path(TB_TEST_OUTPUT_DIR) / "atomic_file_test" / name;
@@ -35,7 +31,7 @@ TEST(AtomicFile, AFinishedWriteReplacesTheFileAndLeavesNoTemporary) {
   const std::string path = folder("finished") + "/out.txt";
   std::ofstream(path) << "old";
   msd::write_file_atomically(path, [](std::ostream& out) { out << "new\n"; });
-  EXPECT_EQ(read(path), "new\n");
+  EXPECT_EQ(read_text(path), "new\n");
   EXPECT_FALSE(fs::exists(msd::partial_path(path)));
 }
 
@@ -48,7 +44,7 @@ TEST(AtomicFile, AWriteThatThrowsLeavesTheOldFileAndNoTemporary) {
                                             throw std::runtime_error("stopped half-way");
                                           }),
                std::runtime_error);
-  EXPECT_EQ(read(path), "old");
+  EXPECT_EQ(read_text(path), "old");
   EXPECT_FALSE(fs::exists(msd::partial_path(path)));
 }
 

@@ -12,12 +12,7 @@
 
 namespace {
 
-std::string read(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing_support::read_text;
 
 // The whitespace-separated values of the DataArray called `name`.
 std::vector<double> array(const std::string& text, const std::string& name) {
@@ -48,7 +43,7 @@ msd::VtuGrid mixed() {
 TEST(Vtu, WritesCellsOffsetsTypesAndData) {
   testing_support::TempDir dir("vtu");
   msd::write_vtu(dir.file("m.vtu"), mixed());
-  const std::string t = read(dir.file("m.vtu"));
+  const std::string t = read_text(dir.file("m.vtu"));
   EXPECT_NE(t.find("<VTKFile type=\"UnstructuredGrid\""), std::string::npos);
   EXPECT_NE(t.find("NumberOfPoints=\"5\" NumberOfCells=\"4\""), std::string::npos);
   EXPECT_EQ(array(t, "connectivity"), (std::vector<double>{0, 1, 2, 3, 1, 2, 3, 4, 0, 4, 2}));
