@@ -1,7 +1,12 @@
-// Element force loop cost, nanoseconds per element per evaluation, for each
-// force term alone and for the full model (threshold off, and the thesis' 0.7
-// threshold on a mildly deformed and on a strongly compressed sample).
+// Element force cost, seconds per element per evaluation (s_per_element), for
+// each force term alone and for the full model (threshold off, and the thesis'
+// 0.7 threshold on a mildly deformed and on a strongly compressed sample):
+// the per-tet reference loop (BM_Reference*) and the fast engine
+// (BM_Fast*, argument = threads) side by side in one run; then the fast full
+// model's scaling from 1k to 250k tets on 1 and 2 threads (BM_FastScaling,
+// arguments = cubes along x, threads).
 #include "msd/forces/element_forces.hpp"
+#include "msd/forces/force_engine.hpp"
 #include "msd/mesh/cubic_grid.hpp"
 
 #include <benchmark/benchmark.h>
@@ -15,14 +20,15 @@ struct Fixture {
   msd::Points x, v, f;
 };
 
-// A 10 x 10 x 20 cm block at h = 1 cm (2,000 cubes, 10,000 tets), physical
-// constants, positions perturbed randomly and the block squeezed along z by
-// `squeeze` (0.8 = 20 % compression).
-Fixture make_fixture(unsigned terms, double threshold, double squeeze) {
+// A 10 x 10 x 20 cm block at h = 1 cm (2,000 cubes, 10,000 tets; or `nx` x
+// `nx` x 2 `nx` cubes), physical constants, positions perturbed randomly and
+// the block squeezed along z by `squeeze` (0.8 = 20 % compression).
+Fixture make_fixture(unsigned terms, double threshold, double squeeze, int threads = 1, int nx = 10) {
   msd::SampleMeshOptions o;
   o.spacing = 0.01;
+  o.max_cubes = 100000000;
   const auto sample = msd::mesh_closed_surface(
-      msd::make_box(msd::Vec3::Zero(), msd::Vec3(0.1, 0.1, 0.2)), o, "benchmark block");
+      msd::make_box(msd::Vec3::Zero(), msd::Vec3(0.01 * nx, 0.01 * nx, 0.02 * nx)), o, "benchmark block");
   msd::ModelOptions mo;
   mo.terms = terms;
   mo.nonlinear_threshold = threshold;
@@ -34,6 +40,7 @@ Fixture make_fixture(unsigned terms, double threshold, double squeeze) {
   mat.repulsion_factor = 0.2;
   mat.volume_factor = 1.0;
   mo.region_materials = {mat};
+  mo.threads = threads;
   Fixture fx{msd::build_model(sample.mesh, mo), {}, {}, {}};
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -48,13 +55,19 @@ Fixture make_fixture(unsigned terms, double threshold, double squeeze) {
   return fx;
 }
 
-void run(benchmark::State& state, unsigned terms, double threshold, double squeeze) {
-  Fixture fx = make_fixture(terms, threshold, squeeze);
+// fast: the engine on state.range(0) threads (or range(1) with a size in range(0)); else the reference loop.
+void run(benchmark::State& state, unsigned terms, double threshold, double squeeze, bool fast = false,
+         bool scaling = false) {
+  const int threads = fast ? static_cast<int>(state.range(scaling ? 1 : 0)) : 1;
+  Fixture fx = make_fixture(terms, threshold, squeeze, threads, scaling ? static_cast<int>(state.range(0)) : 10);
+  msd::Scratch buffers;
   long active = 0;
   for (auto _ : state) {
-    active = msd::compute_internal_forces(fx.model, fx.x, fx.v, fx.f);
+    active = fast ? msd::compute_forces_fast(fx.model, fx.x, fx.v, fx.f, buffers)
+                  : msd::compute_internal_forces_reference(fx.model, fx.x, fx.v, fx.f);
     benchmark::DoNotOptimize(fx.f.data());
   }
+  state.counters["tets"] = fx.model.num_elements();
   state.SetItemsProcessed(state.iterations() * fx.model.num_elements());
   state.counters["s_per_element"] = benchmark::Counter(
       static_cast<double>(state.iterations() * fx.model.num_elements()),
@@ -64,25 +77,50 @@ void run(benchmark::State& state, unsigned terms, double threshold, double squee
 }
 
 using namespace msd;
-void BM_Springs(benchmark::State& s) { run(s, kSprings, 0.0, 0.95); }
-void BM_Dampers(benchmark::State& s) { run(s, kDampers, 0.0, 0.95); }
-void BM_Repulsion(benchmark::State& s) { run(s, kRepulsion, 0.0, 0.95); }
-void BM_Volume(benchmark::State& s) { run(s, kVolume, 0.0, 0.95); }
-void BM_FullModel(benchmark::State& s) { run(s, kSprings | kDampers | kRepulsion | kVolume, 0.0, 0.95); }
-void BM_FullModelThreshold07Mild(benchmark::State& s) {
-  run(s, kSprings | kDampers | kRepulsion | kVolume, 0.7, 0.95);
-}
-void BM_FullModelThreshold07Compressed(benchmark::State& s) {
-  run(s, kSprings | kDampers | kRepulsion | kVolume, 0.7, 0.6);
+constexpr unsigned kFull = kSprings | kDampers | kRepulsion | kVolume;
+void BM_ReferenceSprings(benchmark::State& s) { run(s, kSprings, 0.0, 0.95); }
+void BM_ReferenceDampers(benchmark::State& s) { run(s, kDampers, 0.0, 0.95); }
+void BM_ReferenceRepulsion(benchmark::State& s) { run(s, kRepulsion, 0.0, 0.95); }
+void BM_ReferenceVolume(benchmark::State& s) { run(s, kVolume, 0.0, 0.95); }
+void BM_ReferenceFullModel(benchmark::State& s) { run(s, kFull, 0.0, 0.95); }
+void BM_ReferenceFullModelThreshold07Mild(benchmark::State& s) { run(s, kFull, 0.7, 0.95); }
+void BM_ReferenceFullModelThreshold07Compressed(benchmark::State& s) { run(s, kFull, 0.7, 0.6); }
+void BM_FastSprings(benchmark::State& s) { run(s, kSprings, 0.0, 0.95, true); }
+void BM_FastDampers(benchmark::State& s) { run(s, kDampers, 0.0, 0.95, true); }
+void BM_FastRepulsion(benchmark::State& s) { run(s, kRepulsion, 0.0, 0.95, true); }
+void BM_FastVolume(benchmark::State& s) { run(s, kVolume, 0.0, 0.95, true); }
+void BM_FastFullModel(benchmark::State& s) { run(s, kFull, 0.0, 0.95, true); }
+void BM_FastFullModelThreshold07Mild(benchmark::State& s) { run(s, kFull, 0.7, 0.95, true); }
+void BM_FastFullModelThreshold07Compressed(benchmark::State& s) { run(s, kFull, 0.7, 0.6, true); }
+void BM_FastScaling(benchmark::State& s) { run(s, kFull, 0.0, 0.95, true, true); }
+void BM_ReferenceScaling(benchmark::State& s) {
+  Fixture fx = make_fixture(kFull, 0.0, 0.95, 1, static_cast<int>(s.range(0)));
+  for (auto _ : s) {
+    msd::compute_internal_forces_reference(fx.model, fx.x, fx.v, fx.f);
+    benchmark::DoNotOptimize(fx.f.data());
+  }
+  s.counters["tets"] = fx.model.num_elements();
+  s.counters["s_per_element"] = benchmark::Counter(static_cast<double>(s.iterations() * fx.model.num_elements()),
+                                                   benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-BENCHMARK(BM_Springs);
-BENCHMARK(BM_Dampers);
-BENCHMARK(BM_Repulsion);
-BENCHMARK(BM_Volume);
-BENCHMARK(BM_FullModel);
-BENCHMARK(BM_FullModelThreshold07Mild);
-BENCHMARK(BM_FullModelThreshold07Compressed);
+BENCHMARK(BM_ReferenceSprings);
+BENCHMARK(BM_FastSprings)->Arg(1);
+BENCHMARK(BM_ReferenceDampers);
+BENCHMARK(BM_FastDampers)->Arg(1);
+BENCHMARK(BM_ReferenceRepulsion);
+BENCHMARK(BM_FastRepulsion)->Arg(1);
+BENCHMARK(BM_ReferenceVolume);
+BENCHMARK(BM_FastVolume)->Arg(1);
+BENCHMARK(BM_ReferenceFullModel);
+BENCHMARK(BM_FastFullModel)->Arg(1)->Arg(2)->UseRealTime();
+BENCHMARK(BM_ReferenceFullModelThreshold07Mild);
+BENCHMARK(BM_FastFullModelThreshold07Mild)->Arg(1)->Arg(2)->UseRealTime();
+BENCHMARK(BM_ReferenceFullModelThreshold07Compressed);
+BENCHMARK(BM_FastFullModelThreshold07Compressed)->Arg(1)->Arg(2)->UseRealTime();
+// 1k, 10k, 50k, 250k tets: nx = 5 (250 cubes), 10 (2,000), 17 (9,826), 29 (48,778).
+BENCHMARK(BM_ReferenceScaling)->Arg(5)->Arg(10)->Arg(17)->Arg(29);
+BENCHMARK(BM_FastScaling)->ArgsProduct({{5, 10, 17, 29}, {1, 2}})->UseRealTime();
 
 }  // namespace
 

@@ -6,7 +6,9 @@
 // node (the rod held clear of the leg, so what differs is the testing). The knee is held bent at 95 degrees (scripted), where the crease
 // touches, so the contact tests do their real work. The ratios in
 // benchmarks/results/2026-12-01-kernels-and-leg.md ("collisions only where a scene says") are of these
-// figures, measured in one run.
+// figures, measured in one run. The second argument picks the force path:
+// 0 the per-tet reference loop, 1 or 2 the engine on that many threads
+// (msd/forces/force_engine.hpp), wall time per step.
 #include "msd/geometry/leg_generator.hpp"
 #include "msd/mesh/limb_mesher.hpp"
 #include "msd/scene/leg_model.hpp"
@@ -63,7 +65,10 @@ void BM_LegStep(benchmark::State& state) {
     if (contact == kRodBox) rod.box = std::make_pair(msd::Vec3(0.0, -0.08, 0.08), msd::Vec3(0.12, 0.08, 0.3));
     o.obstacles = {rod};
   }
-  const msd::LegModel model = msd::build_leg_model(leg().mesh, leg().tendons, o);
+  msd::LegModel model = msd::build_leg_model(leg().mesh, leg().tendons, o);
+  // Second argument: 0 the per-tet reference forces, n > 0 the engine on n threads.
+  model.tissue.reference_forces = state.range(1) == 0;
+  model.tissue.threads = std::max<int>(1, static_cast<int>(state.range(1)));
   // Bent there by a scripted ramp at 50 degrees/s (as the scenes' lead-ins).
   msd::LegState s = msd::leg_rest_state(model, 0.0);
   msd::LegScratch scratch;
@@ -82,14 +87,18 @@ void BM_LegStep(benchmark::State& state) {
   state.counters["contacts"] = static_cast<double>(scratch.knee_contact.contacts);
 }
 BENCHMARK(BM_LegStep)
-    ->ArgName("contact")
-    ->Arg(kNone)
-    ->Arg(kKneeBox)
-    ->Arg(kKneeWholeLeg)
-    ->Arg(kRodBox)
-    ->Arg(kRodAllSkin)
+    ->ArgNames({"contact", "threads"})
+    ->Args({kNone, 0})
+    ->Args({kNone, 1})
+    ->Args({kNone, 2})
+    ->Args({kKneeBox, 0})
+    ->Args({kKneeBox, 1})
+    ->Args({kKneeBox, 2})
+    ->Args({kKneeWholeLeg, 1})
+    ->Args({kRodBox, 1})
+    ->Args({kRodAllSkin, 1})
     ->Unit(benchmark::kMicrosecond)
-    ->MeasureProcessCPUTime();
+    ->UseRealTime();
 
 }  // namespace
 

@@ -89,6 +89,7 @@ MsdProblem compile_msd(const Spec& spec) {
   if (l.gravity.squaredNorm() > 0.0) o.terms |= msd::kGravity;
   o.gravity = l.gravity;
   o.nonlinear_threshold = ms.nonlinear_threshold;
+  o.threads = ms.threads;
   o.region_materials.assign(1, make_material(spec));
   const msd::TetMesh& mesh = p.sample.mesh;
   const Eigen::Vector3d lo = mesh.nodes.rowwise().minCoeff(), hi = mesh.nodes.rowwise().maxCoeff();

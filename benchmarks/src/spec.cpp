@@ -117,7 +117,7 @@ MaterialSpec parse_material(const Fields& given) {
 MsdSpec parse_msd(const Fields& f) {
   f.only({"constants", "k_s", "k_d", "k_r", "k_v", "stiffness_scale", "repulsion_factor",
           "volume_factor", "damping_time", "repulsion_floor", "mass_lumping", "terms", "nonlinear_threshold",
-          "integrator", "dt", "calibration", "rtol", "atol"});
+          "integrator", "dt", "calibration", "rtol", "atol", "threads"});
   MsdSpec m;
   m.constants = choice(f, "msd.constants");
   const bool raw = m.constants == "raw";
@@ -158,6 +158,7 @@ MsdSpec parse_msd(const Fields& f) {
     m.nonlinear_threshold = off ? 0.0 : number(f, "msd.nonlinear_threshold");
   }
   m.integrator = choice(f, "msd.integrator");
+  m.threads = static_cast<int>(integer(f, "msd.threads"));
   if (m.integrator == "cvode") {
     m.rtol = number(f, "msd.rtol");
     m.atol = number(f, "msd.atol");

@@ -69,6 +69,7 @@ std::vector<Parameter> declare_model() {
       optional_number("msd.nonlinear_threshold", "1", Range{0.0, 1.0, false, true}, "off (or false), or repulsion/volume only in elements deformed past it", "off"),
       choice("msd.integrator", {"explicit_euler", "symplectic_euler", "semi_implicit_euler", "velocity_verlet", "cvode"},
              msd.integrator, "cvode: SUNDIALS BDF, adaptive - the time-exact reference"),
+      integer("msd.threads", msd.threads, Range::closed(1, 256), "threads of the force evaluation; the results are bit-identical for every count"),
       number("msd.dt", "s", std::nullopt, positive, "time step; required by the fixed-step integrators, not with cvode"),
       number("msd.rtol", "1", msd.rtol, positive, "cvode only: relative tolerance"),
       number("msd.atol", "m", msd.atol, positive, "cvode only: absolute tolerance on positions (velocities: atol / output.interval)"),

@@ -39,6 +39,7 @@ std::vector<Parameter> declare() {
       vector3("gravity", "m/s^2", model.gravity, "in the leg's frame (z up the leg, x forward)"),
       other("terms", Kind::List, "", "all", "force terms: springs, dampers, repulsion, volume, gravity"),
       number("nonlinear_threshold", "1", model.nonlinear_threshold, Range::closed(0, 1), "thesis 5.8: the non-linear element forces act below this fraction of rest"),
+      integer("threads", model.threads, Range::closed(1, 256), "threads of the force evaluation; the results are bit-identical for every count"),
       number("materials.*.density", "kg/m^3", std::nullopt, positive, "of `passive` and `muscle` tissue"),
       number("materials.*.youngs_modulus", "Pa", std::nullopt, positive, "Young's modulus"),
       number("materials.*.damping_time", "s", 0.0, non_negative, "k_d = damping_time k_s"),

@@ -3,6 +3,7 @@
 #include "msd/forces/edge_dampers.hpp"
 #include "msd/forces/edge_springs.hpp"
 #include "msd/forces/face_repulsion.hpp"
+#include "msd/forces/force_engine.hpp"
 #include "msd/forces/volume_preservation.hpp"
 
 #include <algorithm>
@@ -21,6 +22,13 @@ inline bool one_element(const Model& model, const Element& el, const Vec3 x[4], 
     if (terms & kDampers) add_edge_dampers(edges, v, el.k.k_d, f);
   }
   if (!(terms & (kRepulsion | kVolume))) return false;
+  return add_nonlinear_element_forces(model, el, x, f);
+}
+
+}  // namespace
+
+bool add_nonlinear_element_forces(const Model& model, const Element& el, const Vec3 x[4], Vec3 f[4]) {
+  const unsigned terms = model.terms;
   const TetFrame g = tet_frame(x);
   if (model.nonlinear_threshold > 0.0) {
     double ratio = g.height[0] / el.rest_height[0];
@@ -40,9 +48,7 @@ inline bool one_element(const Model& model, const Element& el, const Vec3 x[4], 
   return true;
 }
 
-}  // namespace
-
-long compute_internal_forces(const Model& model, const Points& x, const Points& v, Points& f) {
+long compute_internal_forces_reference(const Model& model, const Points& x, const Points& v, Points& f) {
   f.setZero(3, x.cols());
   long active = 0;
   for (const Element& el : model.elements) {
@@ -56,6 +62,11 @@ long compute_internal_forces(const Model& model, const Points& x, const Points& 
     for (int i = 0; i < 4; ++i) f.col(el.nodes[i]) += fe[i];
   }
   return active;
+}
+
+long compute_internal_forces(const Model& model, const Points& x, const Points& v, Points& f) {
+  Scratch buffers;
+  return compute_forces_fast(model, x, v, f, buffers);
 }
 
 void element_forces(const Model& model, int e, const Points& x, const Points& v, Vec3 f[4]) {

@@ -1,6 +1,7 @@
 #include "msd/integrate/step.hpp"
 
 #include "msd/forces/element_forces.hpp"
+#include "msd/forces/force_engine.hpp"
 
 #include <cmath>
 
@@ -97,7 +98,9 @@ void accelerations(const Model& model, const Scratch& scratch, double load_scale
 }
 
 void evaluate_forces(const Model& model, const State& state, Scratch& scratch) {
-  scratch.nonlinear_active = compute_internal_forces(model, state.x, state.v, scratch.f);
+  scratch.nonlinear_active = model.reference_forces
+                                 ? compute_internal_forces_reference(model, state.x, state.v, scratch.f)
+                                 : compute_forces_fast(model, state.x, state.v, scratch.f, scratch);
   if (!scratch.f.allFinite()) fail_non_finite_force(model, state);
 }
 

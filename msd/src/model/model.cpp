@@ -1,5 +1,6 @@
 #include "msd/model/model.hpp"
 
+#include "msd/forces/force_engine.hpp"
 #include "msd/forces/tet_frame.hpp"
 
 #include <algorithm>
@@ -35,6 +36,10 @@ Model build_model(const TetMesh& mesh, const ModelOptions& options) {
   if (!(options.nonlinear_threshold >= 0.0 && options.nonlinear_threshold <= 1.0))
     throw Error("nonlinear_threshold must be in [0, 1] (0 = terms always on)");
   if (!options.gravity.allFinite()) throw Error("gravity is not finite");
+  if (options.threads < 1)
+    throw Error("threads must be at least 1, got " + std::to_string(options.threads));
+  model.threads = options.threads;
+  model.reference_forces = options.reference_forces;
   for (size_t r = 0; r < options.region_materials.size(); ++r)
     check_material(options.region_materials[r], "material of region " + std::to_string(r));
 
@@ -82,6 +87,7 @@ Model build_model(const TetMesh& mesh, const ModelOptions& options) {
   for (int i = 0; i < n; ++i)
     if (!(model.mass[i] > 0.0)) throw Error("node " + std::to_string(i) + " belongs to no tet (zero mass)");
   model.inv_mass = model.mass.cwiseInverse();
+  model.plan = make_force_plan(model.elements, n);
 
   std::vector<int> owner(static_cast<size_t>(n), -1);
   for (size_t g = 0; g < options.groups.size(); ++g) {

@@ -92,6 +92,7 @@ Model tissue_model(const TetMesh& tissue_mesh, const LegModelOptions& o) {
   ModelOptions mo;
   mo.terms = o.terms;
   mo.nonlinear_threshold = o.nonlinear_threshold;
+  mo.threads = o.threads;
   mo.gravity = o.gravity;
   // Region labels 0..4: passive, front and back muscle, the bones (their tets
   // move rigidly; any material will do, passive tissue's is used).

@@ -11,8 +11,21 @@ namespace msd {
 
 /// Internal forces of all elements at positions x and velocities v (3 x N) into
 /// f (resized and overwritten). Returns the number of elements whose non-linear
-/// terms were evaluated (all of them when the threshold is off).
+/// terms were evaluated (all of them when the threshold is off). Runs the fast
+/// engine (force_engine.hpp) with buffers of its own; a stepper passes its
+/// Scratch to compute_forces_fast instead.
 long compute_internal_forces(const Model& model, const Points& x, const Points& v, Points& f);
+
+/// The same forces by the per-tet loop described above: the scalar reference
+/// the fast engine is tested against (each spring once per tet side).
+long compute_internal_forces_reference(const Model& model, const Points& x, const Points& v, Points& f);
+
+/// The non-linear terms of one element (face repulsion and volume
+/// preservation, whichever the model has, thesis eq. 5.1-5.3 and 5.5) added to
+/// f[0..3] for vertices x[0..3]; nothing when the thesis 5.8 threshold leaves
+/// the element out. Returns whether they ran. Shared by the reference loop and
+/// the fast engine.
+bool add_nonlinear_element_forces(const Model& model, const Element& el, const Vec3 x[4], Vec3 f[4]);
 
 /// Forces of element e alone, for diagnostics and tests: f[i] is the force on
 /// its local vertex i.

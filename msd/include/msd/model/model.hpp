@@ -40,6 +40,24 @@ struct Element {
   ElementConstants k;
 };
 
+/// The element terms laid out for the fast force evaluation
+/// (msd/forces/force_engine.hpp), built once by build_model.
+///  - Unique edges as structure-of-arrays, E entries each: end nodes a, b;
+///    rest length; k_s and k_d summed over the tets that share the edge (a
+///    cube edge of the five-tet lattice is in up to eight tets, so each edge's
+///    spring and damper is evaluated once instead of once per tet side).
+///  - The gather tables (CSR, N + 1 offsets): for node n, the edges touching it
+///    as 2 e + (n == b[e]) and the tet corners it is, as 4 t + c, both in
+///    increasing order, so every node's force is summed in a fixed order
+///    whatever the thread count.
+struct ForcePlan {
+  std::vector<int> edge_a, edge_b;           ///< E
+  std::vector<double> edge_rest, edge_k_s, edge_k_d;  ///< E
+  std::vector<int> node_edge_offset, node_edge;        ///< N + 1, 2 E
+  std::vector<int> node_corner_offset, node_corner;    ///< N + 1, 4 T
+  int num_edges() const { return static_cast<int>(edge_a.size()); }
+};
+
 /// Nodes whose motion is prescribed: for each prescribed axis, position =
 /// rest position + offset(t) and velocity = velocity(t), both from Controls.
 /// (A bonded platen prescribes all three axes; a frictionless one only its
@@ -70,6 +88,11 @@ struct Model {
   /// collision work at all.
   std::vector<RigidObstacle> obstacles;
   std::vector<TissueMaterial> region_materials;  ///< by region label
+  ForcePlan plan;   ///< the fast evaluation's layout (build_model)
+  int threads = 1;  ///< threads of the force evaluation (results do not depend on it)
+  /// Evaluate with the per-tet reference loop instead of the engine (the path
+  /// the engine replaced: for verification and side-by-side timing).
+  bool reference_forces = false;
 
   int num_nodes() const { return static_cast<int>(rest_positions.cols()); }
   int num_elements() const { return static_cast<int>(elements.size()); }
@@ -87,6 +110,10 @@ struct ModelOptions {
   /// surface node of the mesh that is in no kinematic group.
   std::vector<RigidObstacle> obstacles;
   Points external_force;  ///< optional, 3 x N
+  /// Threads of the force evaluation, >= 1; the forces are bit-identical for
+  /// every count (msd/forces/force_engine.hpp).
+  int threads = 1;
+  bool reference_forces = false;  ///< see Model::reference_forces
 };
 
 /// Compiles a model: checks the mesh and materials, computes rest data and
@@ -122,6 +149,8 @@ struct Controls {
 struct Scratch {
   Points f;                        ///< internal force per node (no gravity)
   long nonlinear_active = 0;       ///< elements whose non-linear terms ran
+  Points edge_force;               ///< 3 x E: force on each edge's node a (b gets minus)
+  Points corner_force;             ///< 3 x 4T: non-linear force on each tet corner
 };
 
 }  // namespace msd

@@ -1,0 +1,221 @@
+// Tests for msd/src/forces/force_engine.cpp: the plan (unique edges, summed
+// constants, gather tables), the fast forces against the per-tet reference,
+// bit-identical results for every thread count, and no allocation in a step.
+#include "msd/forces/force_engine.hpp"
+
+#include "msd/forces/element_forces.hpp"
+#include "msd/integrate/step.hpp"
+#include "msd/mesh/cubic_grid.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <memory>
+#include <new>
+#include <random>
+#include <set>
+
+// Every allocation of this test binary is counted (the no-allocation test).
+namespace {
+std::atomic<long> g_allocations{0};
+}
+void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+using msd::Vec3;
+
+namespace {
+
+constexpr unsigned kAll = msd::kSprings | msd::kDampers | msd::kRepulsion | msd::kVolume;
+
+// A 4 x 3 x 5 cm block at h = 1 cm with physical constants (2 regions, so
+// tets sharing an edge can carry different constants).
+msd::Model block(unsigned terms, double threshold, int threads) {
+  msd::SampleMeshOptions o;
+  o.spacing = 0.01;
+  auto s = msd::mesh_closed_surface(msd::make_box(Vec3::Zero(), Vec3(0.04, 0.03, 0.05)), o, "block");
+  for (size_t t = 0; t < s.mesh.tets.size(); ++t) s.mesh.region[t] = s.mesh.nodes(2, s.mesh.tets[t][0]) > 0.025;
+  msd::TissueMaterial soft;
+  soft.mode = msd::ConstantsMode::Physical;
+  soft.density = 1000;
+  soft.youngs_modulus = 3000;
+  soft.damping_time = 0.01;
+  soft.repulsion_factor = 0.5;
+  soft.volume_factor = 1.6;
+  msd::TissueMaterial stiff = soft;
+  stiff.youngs_modulus = 9000;
+  msd::ModelOptions mo;
+  mo.terms = terms;
+  mo.nonlinear_threshold = threshold;
+  mo.region_materials = {soft, stiff};
+  mo.threads = threads;
+  return msd::build_model(s.mesh, mo);
+}
+
+// Positions squeezed along z by `squeeze` and jittered by `jitter` m, random velocities.
+void deform(const msd::Model& m, double squeeze, double jitter, msd::Points& x, msd::Points& v, unsigned seed = 3) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  x = m.rest_positions;
+  x.row(2) *= squeeze;
+  v.setZero(3, x.cols());
+  for (Eigen::Index i = 0; i < x.cols(); ++i)
+    for (int a = 0; a < 3; ++a) {
+      x(a, i) += jitter * u(rng);
+      v(a, i) = 0.05 * u(rng);
+    }
+}
+
+double max_abs(const msd::Points& f) { return f.cwiseAbs().maxCoeff(); }
+
+}  // namespace
+
+TEST(ForcePlan, EachEdgeOnceWithTheConstantsOfEveryTetThatSharesIt) {
+  const msd::Model m = block(kAll, 0.0, 1);
+  std::set<std::pair<int, int>> edges;
+  double ks = 0.0, kd = 0.0;
+  for (const msd::Element& el : m.elements)
+    for (int k = 0; k < 6; ++k) {
+      const int a = el.nodes[msd::kTetEdges[k][0]], b = el.nodes[msd::kTetEdges[k][1]];
+      edges.insert({std::min(a, b), std::max(a, b)});
+      ks += el.k.k_s[k];
+      kd += el.k.k_d[k];
+    }
+  const msd::ForcePlan& p = m.plan;
+  ASSERT_EQ(p.num_edges(), static_cast<int>(edges.size()));
+  // The five-tet lattice shares edges: far fewer unique edges than tet sides.
+  EXPECT_LT(p.num_edges(), 6 * m.num_elements() / 3);
+  double ps = 0.0, pd = 0.0;
+  for (int e = 0; e < p.num_edges(); ++e) {
+    EXPECT_LT(p.edge_a[e], p.edge_b[e]);
+    EXPECT_NEAR(p.edge_rest[e], (m.rest_positions.col(p.edge_b[e]) - m.rest_positions.col(p.edge_a[e])).norm(), 1e-15);
+    ps += p.edge_k_s[e];
+    pd += p.edge_k_d[e];
+  }
+  EXPECT_NEAR(ps, ks, 1e-12 * ks);
+  EXPECT_NEAR(pd, kd, 1e-12 * kd);
+  // Gather tables: every node lists exactly the edges and corners it is in, in increasing order.
+  ASSERT_EQ(p.node_edge.size(), 2 * edges.size());
+  ASSERT_EQ(p.node_corner.size(), 4 * m.elements.size());
+  for (int n = 0; n < m.num_nodes(); ++n) {
+    for (int k = p.node_edge_offset[n]; k < p.node_edge_offset[n + 1]; ++k) {
+      const int r = p.node_edge[k], e = r >> 1;
+      EXPECT_EQ((r & 1) ? p.edge_b[e] : p.edge_a[e], n);
+      if (k > p.node_edge_offset[n]) {
+        EXPECT_LT(p.node_edge[k - 1], r);
+      }
+    }
+    for (int k = p.node_corner_offset[n]; k < p.node_corner_offset[n + 1]; ++k)
+      EXPECT_EQ(m.elements[p.node_corner[k] / 4].nodes[p.node_corner[k] % 4], n);
+  }
+}
+
+TEST(ForceEngine, EqualsTheReferenceLoopForEachTermAndAllTogether) {
+  for (unsigned terms : {unsigned(msd::kSprings), unsigned(msd::kDampers), unsigned(msd::kRepulsion),
+                         unsigned(msd::kVolume), kAll}) {
+    for (double threshold : {0.0, 0.7}) {
+      SCOPED_TRACE(msd::force_terms_to_string(terms) + ", threshold " + std::to_string(threshold));
+      const msd::Model m = block(terms, threshold, 1);
+      msd::Points x, v, fast, ref;
+      deform(m, 0.75, 0.002, x, v);
+      msd::Scratch s;
+      const long active = msd::compute_forces_fast(m, x, v, fast, s);
+      EXPECT_EQ(active, msd::compute_internal_forces_reference(m, x, v, ref));
+      ASSERT_GT(max_abs(ref), 0.0);
+      EXPECT_LE(max_abs(fast - ref), 1e-12 * max_abs(ref));
+      if (threshold > 0 && (terms & (msd::kRepulsion | msd::kVolume))) {
+        EXPECT_GT(active, 0);  // the squeeze makes the threshold matter both ways
+        EXPECT_LT(active, m.num_elements());
+      }
+    }
+  }
+}
+
+TEST(ForceEngine, BitIdenticalForOneTwoAndThreeThreadsAndRepeatedCalls) {
+  msd::Points x, v, f1, again, f2, f3;
+  const msd::Model m1 = block(kAll, 0.7, 1), m2 = block(kAll, 0.7, 2), m3 = block(kAll, 0.7, 3);
+  deform(m1, 0.8, 0.002, x, v, 11);
+  msd::Scratch s;
+  const long a1 = msd::compute_forces_fast(m1, x, v, f1, s);
+  msd::compute_forces_fast(m1, x, v, again, s);
+  EXPECT_EQ(a1, msd::compute_forces_fast(m2, x, v, f2, s));
+  EXPECT_EQ(a1, msd::compute_forces_fast(m3, x, v, f3, s));
+  EXPECT_TRUE((f1.array() == again.array()).all());
+  EXPECT_TRUE((f1.array() == f2.array()).all());
+  EXPECT_TRUE((f1.array() == f3.array()).all());
+}
+
+TEST(ForceEngine, ZeroNetForceAndTorque) {
+  const msd::Model m = block(kAll, 0.0, 2);
+  msd::Points x, v, f;
+  deform(m, 0.7, 0.003, x, v);
+  msd::Scratch s;
+  msd::compute_forces_fast(m, x, v, f, s);
+  Vec3 net = Vec3::Zero(), torque = Vec3::Zero();
+  for (Eigen::Index i = 0; i < x.cols(); ++i) {
+    net += f.col(i);
+    torque += Vec3(x.col(i)).cross(Vec3(f.col(i)));
+  }
+  EXPECT_LE(net.norm(), 1e-11 * max_abs(f));
+  EXPECT_LE(torque.norm(), 1e-11 * max_abs(f) * 0.05);
+}
+
+TEST(ForceEngine, AStepOnTheReferencePathMatchesTheEngine) {
+  msd::Model engine = block(kAll, 0.7, 2), reference = block(kAll, 0.7, 1);
+  reference.reference_forces = true;
+  msd::State a = msd::rest_state(engine), b;
+  msd::Points v;
+  deform(engine, 0.8, 0.001, a.x, v);
+  b = a;
+  msd::Scratch sa, sb;
+  const msd::Controls c{};
+  for (int k = 0; k < 10; ++k) {
+    msd::step(engine, a, c, 1e-5, msd::Integrator::SymplecticEuler, sa);
+    msd::step(reference, b, c, 1e-5, msd::Integrator::SymplecticEuler, sb);
+  }
+  EXPECT_EQ(sa.nonlinear_active, sb.nonlinear_active);
+  EXPECT_LE((sa.f - sb.f).cwiseAbs().maxCoeff(), 1e-11 * sb.f.cwiseAbs().maxCoeff());
+  EXPECT_LE((a.x - b.x).cwiseAbs().maxCoeff(), 1e-14);
+}
+
+TEST(ForceEngine, AModelWithoutItsPlanIsRefused) {
+  msd::Model m = block(kAll, 0.0, 1);
+  m.plan = msd::ForcePlan{};
+  msd::Points x = m.rest_positions, v = msd::Points::Zero(3, x.cols()), f;
+  msd::Scratch s;
+  EXPECT_THROW(msd::compute_forces_fast(m, x, v, f, s), msd::Error);
+  msd::ModelOptions bad;
+  bad.threads = 0;
+  bad.region_materials = {msd::TissueMaterial{}};
+  EXPECT_THROW(msd::build_model(testing_support::corner_tet_mesh(0.01), bad), msd::Error);
+}
+
+TEST(ForceEngine, AStepAllocatesNothingAfterTheFirst) {
+  {
+    const long before = g_allocations.load();
+    auto probe = std::make_unique<double>(1.0);  // the counter sees an allocation
+    EXPECT_EQ(g_allocations.load() - before, 1);
+  }
+  for (int threads : {1, 2}) {
+    SCOPED_TRACE(threads);
+    const msd::Model m = block(kAll | msd::kGravity, 0.7, threads);
+    msd::State st = msd::rest_state(m);
+    msd::Points v;
+    deform(m, 0.9, 0.001, st.x, v);
+    msd::Scratch scratch;
+    const msd::Controls c{};
+    for (msd::Integrator integ : {msd::Integrator::SymplecticEuler, msd::Integrator::VelocityVerlet}) {
+      msd::step(m, st, c, 1e-5, integ, scratch);  // sizes the buffers
+      const long before = g_allocations.load();
+      for (int k = 0; k < 20; ++k) msd::step(m, st, c, 1e-5, integ, scratch);
+      EXPECT_EQ(g_allocations.load() - before, 0) << msd::to_string(integ);
+    }
+  }
+}
