@@ -90,6 +90,7 @@ MsdProblem compile_msd(const Spec& spec) {
   o.gravity = l.gravity;
   o.nonlinear_threshold = ms.nonlinear_threshold;
   o.threads = ms.threads;
+  o.reference_forces = ms.forces == "reference";
   o.region_materials.assign(1, make_material(spec));
   const msd::TetMesh& mesh = p.sample.mesh;
   const Eigen::Vector3d lo = mesh.nodes.rowwise().minCoeff(), hi = mesh.nodes.rowwise().maxCoeff();

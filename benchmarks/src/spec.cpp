@@ -117,7 +117,7 @@ MaterialSpec parse_material(const Fields& given) {
 MsdSpec parse_msd(const Fields& f) {
   f.only({"constants", "k_s", "k_d", "k_r", "k_v", "stiffness_scale", "repulsion_factor",
           "volume_factor", "damping_time", "repulsion_floor", "mass_lumping", "terms", "nonlinear_threshold",
-          "integrator", "dt", "calibration", "rtol", "atol", "threads"});
+          "integrator", "dt", "calibration", "rtol", "atol", "threads", "forces"});
   MsdSpec m;
   m.constants = choice(f, "msd.constants");
   const bool raw = m.constants == "raw";
@@ -159,6 +159,7 @@ MsdSpec parse_msd(const Fields& f) {
   }
   m.integrator = choice(f, "msd.integrator");
   m.threads = static_cast<int>(integer(f, "msd.threads"));
+  m.forces = choice(f, "msd.forces");
   if (m.integrator == "cvode") {
     m.rtol = number(f, "msd.rtol");
     m.atol = number(f, "msd.atol");

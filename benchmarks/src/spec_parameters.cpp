@@ -70,6 +70,7 @@ std::vector<Parameter> declare_model() {
       choice("msd.integrator", {"explicit_euler", "symplectic_euler", "semi_implicit_euler", "velocity_verlet", "cvode"},
              msd.integrator, "cvode: SUNDIALS BDF, adaptive - the time-exact reference"),
       integer("msd.threads", msd.threads, Range::closed(1, 256), "threads of the force evaluation; the results are bit-identical for every count"),
+      choice("msd.forces", {"engine", "reference"}, msd.forces, "engine: each edge once, threaded; reference: the per-tet loop (same forces up to round-off)"),
       number("msd.dt", "s", std::nullopt, positive, "time step; required by the fixed-step integrators, not with cvode"),
       number("msd.rtol", "1", msd.rtol, positive, "cvode only: relative tolerance"),
       number("msd.atol", "m", msd.atol, positive, "cvode only: absolute tolerance on positions (velocities: atol / output.interval)"),

@@ -131,6 +131,7 @@ void read_run(const Fields& f, const std::string& path, LegScene& s) {
   }
   o.nonlinear_threshold = number(f, "nonlinear_threshold");
   o.threads = static_cast<int>(tbio::read_integer(f, leg_scene_parameter("threads")));
+  o.reference_forces = tbio::read_choice(f, leg_scene_parameter("forces")) == "reference";
 }
 
 // knee: the hinge, its range, how it is driven, its passive structures.
@@ -314,7 +315,7 @@ LegScene read_leg_scene(const std::string& path) {
   if (!root || !root.IsMap()) throw msd::Error(path + ": the scene must be a YAML mapping");
   const Fields f(root, "", path);
   f.only({"name", "description", "geometry", "mesh_pull", "duration", "dt", "output_interval", "gravity", "terms",
-          "nonlinear_threshold", "threads", "materials", "knee", "tendons", "muscles", "contact", "analysis", "variants",
+          "nonlinear_threshold", "threads", "forces", "materials", "knee", "tendons", "muscles", "contact", "analysis", "variants",
           "outputs"});
   LegScene s;
   s.file = path;

@@ -40,6 +40,7 @@ std::vector<Parameter> declare() {
       other("terms", Kind::List, "", "all", "force terms: springs, dampers, repulsion, volume, gravity"),
       number("nonlinear_threshold", "1", model.nonlinear_threshold, Range::closed(0, 1), "thesis 5.8: the non-linear element forces act below this fraction of rest"),
       integer("threads", model.threads, Range::closed(1, 256), "threads of the force evaluation; the results are bit-identical for every count"),
+      choice("forces", {"engine", "reference"}, "engine", "engine: each edge once, threaded; reference: the per-tet loop (same forces up to round-off; docs/msd-model.md 2.5)"),
       number("materials.*.density", "kg/m^3", std::nullopt, positive, "of `passive` and `muscle` tissue"),
       number("materials.*.youngs_modulus", "Pa", std::nullopt, positive, "Young's modulus"),
       number("materials.*.damping_time", "s", 0.0, non_negative, "k_d = damping_time k_s"),

@@ -8,6 +8,7 @@
 
 #include "msd/forces/element_forces.hpp"
 #include "msd/forces/force_engine.hpp"
+#include "test_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -46,4 +47,30 @@ TEST(EngineOnSpecs, EveryShippedMsdBenchmarkAgreesWithTheReference) {
     ++checked;
   }
   EXPECT_GE(checked, 14);
+}
+
+TEST(EngineOnSpecs, ASpecPicksThePathAndTheThreadsAndBadValuesAreRefused) {
+  const std::string base = testing_support::small_uniaxial_spec();
+  const auto with = [&](const std::string& extra) {
+    std::string text = base;
+    const size_t at = text.find("msd: {");
+    EXPECT_NE(at, std::string::npos);
+    text.insert(at + 6, extra + ", ");
+    return text;
+  };
+  const bench::Spec ref = bench::parse_spec(with("forces: reference, threads: 2"), "s.yaml");
+  const bench::MsdProblem p = bench::compile_msd(ref);
+  EXPECT_TRUE(p.model.reference_forces);
+  EXPECT_EQ(p.model.threads, 2);
+  EXPECT_FALSE(bench::compile_msd(bench::parse_spec(base, "s.yaml")).model.reference_forces);
+  const auto error = [&](const std::string& extra) {
+    try {
+      bench::parse_spec(with(extra), "s.yaml");
+    } catch (const msd::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(error("threads: 0").find("msd.threads: must lie in [1, 256], got 0"), std::string::npos) << error("threads: 0");
+  EXPECT_NE(error("forces: fast").find("msd.forces"), std::string::npos) << error("forces: fast");
 }

@@ -64,6 +64,7 @@ struct MsdSpec {
   /// adaptive; the time-exact reference of the time-error study)
   std::string integrator = "symplectic_euler";
   int threads = 1;                        ///< force-evaluation threads (results identical for every count)
+  std::string forces = "engine";          ///< engine or reference (the per-tet loop)
   double dt = 0.0;                        ///< s; fixed-step integrators
   double rtol = 1e-8, atol = 1e-10;       ///< cvode: relative, absolute on positions (m)
 };

@@ -43,6 +43,7 @@ struct LegModelOptions {
   unsigned terms = kSprings | kDampers | kRepulsion | kVolume | kGravity;
   double nonlinear_threshold = 0.7;  ///< thesis 5.8
   int threads = 1;                   ///< force-evaluation threads (results identical for every count)
+  bool reference_forces = false;     ///< the per-tet reference loop instead of the engine (Model::reference_forces)
   Vec3 gravity{0.0, 0.0, -9.81};     ///< m/s^2 in the leg's frame
   Vec3 knee_centre{Vec3::Zero()};
   Vec3 knee_axis{Vec3::UnitY()};     ///< positive rotation = flexion
