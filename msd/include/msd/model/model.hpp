@@ -43,8 +43,8 @@ struct Element {
 /// The element terms laid out for the fast force evaluation
 /// (msd/forces/force_engine.hpp), built once by build_model.
 ///  - Unique edges as structure-of-arrays, E entries each: end nodes a, b;
-///    rest length; k_s and k_d summed over the tets that share the edge (a
-///    cube edge of the five-tet lattice is in up to eight tets, so each edge's
+///    rest length; k_s and k_d summed over the tets that share the edge (an
+///    edge of the five-tet lattice is in up to six tets, so each edge's
 ///    spring and damper is evaluated once instead of once per tet side).
 ///  - The gather tables (CSR, N + 1 offsets): for node n, the edges touching it
 ///    as 2 e + (n == b[e]) and the tet corners it is, as 4 t + c, both in
