@@ -1,5 +1,7 @@
 #include "msd/forces/force_engine.hpp"
 
+#include "msd/forces/edge_dampers.hpp"
+#include "msd/forces/edge_springs.hpp"
 #include "msd/forces/element_forces.hpp"
 #include "msd/mesh/tet_mesh.hpp"
 
@@ -69,10 +71,10 @@ void edge_pass(const ForcePlan& p, bool springs, bool dampers, const double* x, 
     const double len = std::sqrt(lx * lx + ly * ly + lz * lz);
     const double inv = 1.0 / len;
     double s = 0.0;
-    if (springs) s += ks[e] * (len - rest[e]) * inv;
+    if (springs) s += edge_spring_factor(ks[e], len, inv, rest[e]);
     if (dampers) {
       const double rate = (v[ib] - v[ia]) * lx + (v[ib + 1] - v[ia + 1]) * ly + (v[ib + 2] - v[ia + 2]) * lz;
-      s += kd[e] * rate * inv * inv;
+      s += edge_damper_factor(kd[e], rate, inv);
     }
     out[3 * e] = s * lx;
     out[3 * e + 1] = s * ly;
@@ -109,15 +111,17 @@ long compute_forces_fast(const Model& model, const Points& x, const Points& v, P
   const int threads = std::max(1, model.threads);
   double* ef = buffers.edge_force.data();
   double* cf = buffers.corner_force.data();
+  // A pass a model does not have runs no iterations.
+  const long edge_blocks = edges ? (ne + 1023) / 1024 : 0, tet_count = tets ? nt : 0;
   long active = 0;
 #pragma omp parallel num_threads(threads) if (threads > 1) reduction(+ : active)
   {
 #pragma omp for schedule(static)
-    for (long block = 0; block < (ne + 1023) / 1024; ++block)
-      if (edges) edge_pass(p, springs, dampers, x.data(), v.data(), ef, block * 1024, std::min(ne, block * 1024 + 1024));
+    for (long block = 0; block < edge_blocks; ++block)
+      edge_pass(p, springs, dampers, x.data(), v.data(), ef, block * 1024, std::min(ne, block * 1024 + 1024));
 #pragma omp for schedule(static)
-    for (long t = 0; t < nt; ++t)
-      if (tets) active += tet_terms(model, model.elements[static_cast<size_t>(t)], x, cf + 12 * t);
+    for (long t = 0; t < tet_count; ++t)
+      active += tet_terms(model, model.elements[static_cast<size_t>(t)], x, cf + 12 * t);
 #pragma omp for schedule(static)
     for (long node = 0; node < n; ++node) {
       double s0 = 0.0, s1 = 0.0, s2 = 0.0;

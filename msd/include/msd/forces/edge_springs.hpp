@@ -8,11 +8,17 @@
 
 namespace msd {
 
+/// The spring force on vertex a as a multiple of l: k_s (|l| - r) / |l|, from
+/// |l| and 1 / |l|. Shared by the per-tet loop and the engine's edge pass.
+inline double edge_spring_factor(double ks, double length, double inv_length, double rest) {
+  return ks * (length - rest) * inv_length;
+}
+
 /// Adds the six spring forces of one tet to f[0..3].
 /// rest[e] and ks[e] follow the edge order of kTetEdges.
 inline void add_edge_springs(const EdgeFrame& g, const double rest[6], const double ks[6], Vec3 f[4]) {
   for (int e = 0; e < 6; ++e) {
-    const Vec3 fa = (ks[e] * (g.length[e] - rest[e]) * g.inv_length[e]) * g.l[e];
+    const Vec3 fa = edge_spring_factor(ks[e], g.length[e], g.inv_length[e], rest[e]) * g.l[e];
     f[kTetEdges[e][0]] += fa;
     f[kTetEdges[e][1]] -= fa;
   }
