@@ -475,9 +475,16 @@ PointSetData read_point_set(const std::string& path, const std::string& name) {
   std::vector<hsize_t> dims;
   read(name + "_points", buf, dims);
   for (size_t i = 0; i + 2 < buf.size(); i += 3) d.points.push_back({{buf[i], buf[i + 1], buf[i + 2]}});
+  const std::string tri_name = "fields/" + name + "_triangles";
+  if (H5Lexists(file, tri_name.c_str(), H5P_DEFAULT) > 0) {
+    read(name + "_triangles", buf, dims);
+    for (size_t i = 0; i + 2 < buf.size(); i += 3)
+      d.triangles.push_back({{static_cast<int>(buf[i]), static_cast<int>(buf[i + 1]), static_cast<int>(buf[i + 2])}});
+  }
   read(name + "_time", d.time, dims);
   read(name + "_displacement", buf, dims);
   const size_t n = d.points.size();
+  if (n > 0) d.time.resize(std::min(d.time.size(), buf.size() / (3 * n)));
   for (size_t f = 0; f < d.time.size(); ++f) {
     std::vector<std::array<double, 3>> frame(n);
     for (size_t i = 0; i < n; ++i)

@@ -56,19 +56,25 @@ tbio::RunMeta run_meta(const LegScene& scene, const LegVariant& variant, const m
   return meta;
 }
 
-void add_rest_geometry(tbio::ResultsWriter& writer, const msd::LegModel& model, const msd::TriangleMesh& skin) {
+void add_rest_geometry(tbio::ResultsWriter& writer, const msd::LegModel& model, const msd::TriangleMesh& skin,
+                       const msd::TriangleMesh& bones) {
   std::vector<std::vector<int>> cells;
   for (const msd::Tet& t : model.tets) cells.push_back({t[0], t[1], t[2], t[3]});
   writer.add_point_set("nodes", rows_of(model.tissue.rest_positions), cells);
   std::vector<std::vector<int>> tris;
   for (const msd::Tri& t : skin.triangles) tris.push_back({t[0], t[1], t[2]});
   writer.add_point_set("skin", rows_of(skin.vertices), tris);
+  if (bones.num_vertices() == 0) return;
+  tris.clear();
+  for (const msd::Tri& t : bones.triangles) tris.push_back({t[0], t[1], t[2]});
+  writer.add_point_set("bones", rows_of(bones.vertices), tris);
 }
 
 void append_frame_fields(tbio::ResultsWriter& writer, const Frame& frame, const Instruments& in) {
   const double t = frame.state->tissue.t;
   writer.append_frame("nodes", t, displacement(frame.state->tissue.x, in.leg->tissue.rest_positions));
   writer.append_frame("skin", t, displacement(frame.skin_x, in.skin->vertices));
+  if (in.bones.num_vertices() > 0) writer.append_frame("bones", t, displacement(frame.bones_x, in.bones.vertices));
 }
 
 void write_skin_obj(const std::string& dir, long index, const Frame& frame, const msd::TriangleMesh& skin) {
@@ -78,7 +84,7 @@ void write_skin_obj(const std::string& dir, long index, const Frame& frame, cons
 }
 
 void write_xdmf(const std::string& path, const std::string& h5_name, const std::vector<double>& times, long nodes,
-                long tets, long skin_vertices, long skin_triangles) {
+                long tets, long skin_vertices, long skin_triangles, long bone_vertices, long bone_triangles) {
   const long frames = static_cast<long>(times.size());
   msd::write_file_atomically(path, [&](std::ostream& x) {
     x << "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"2.0\">\n <Domain>\n";
@@ -106,6 +112,7 @@ void write_xdmf(const std::string& path, const std::string& h5_name, const std::
     };
     grid("tissue", "nodes", "Tetrahedron", tets, 4, "nodes_tets", nodes);
     grid("skin", "skin", "Triangle", skin_triangles, 3, "skin_triangles", skin_vertices);
+    if (bone_vertices > 0) grid("bones", "bones", "Triangle", bone_triangles, 3, "bones_triangles", bone_vertices);
     x << " </Domain>\n</Xdmf>\n";
   });
 }

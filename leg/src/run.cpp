@@ -5,6 +5,7 @@
 #include "leg/limb_input.hpp"
 #include "leg/outputs.hpp"
 #include "leg/sensors.hpp"
+#include "leg/session.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -16,18 +17,7 @@ namespace fs = std::filesystem;
 
 namespace leg {
 
-namespace {
-
-constexpr double kDeg = M_PI / 180.0;
-
-/// The meshed limb and the leg compiled from it, for every variant of a scene.
-struct CompiledLeg {
-  LimbInput input;
-  MeshedLimb limb;
-  msd::LegModel model;
-};
-
-CompiledLeg compile(const LegScene& scene) {
+CompiledLeg compile_leg(const LegScene& scene) {
   CompiledLeg c;
   c.input = read_limb_input(scene.geometry);
   if (!scene.mesh_pull) c.input.options.pull_areas.clear();
@@ -38,6 +28,21 @@ CompiledLeg compile(const LegScene& scene) {
   c.model = msd::build_leg_model(c.limb.mesh, c.limb.tendons, options);
   return c;
 }
+
+Instruments make_leg_instruments(const CompiledLeg& c, const LegScene& scene) {
+  Instruments in = make_instruments(c.model, scene, c.input.surfaces.skin,
+                                    c.limb.mesh.embedded.at(msd::kPassiveTissue), c.limb.mesh.mesh.tets);
+  auto surface = [&](int region) -> const msd::TriangleMesh* {
+    const auto it = c.input.surfaces.inner.find(region);
+    return it == c.input.surfaces.inner.end() ? nullptr : &it->second;
+  };
+  add_bone_surfaces(in, surface(msd::kUpperBone), surface(msd::kLowerBone));
+  return in;
+}
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
 
 // One variant: step from rest to the scene's duration, recording every output
 // interval; a blow-up ends the run marked failed with what was recorded.
@@ -58,7 +63,7 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
   std::vector<tbio::SeriesColumn> cols;
   for (const Sensor& s : sensors) cols.push_back({s.name, s.unit});
   tbio::ResultsWriter writer((fs::path(dir) / "leg.h5").string(), run_meta(scene, variant, leg), cols);
-  add_rest_geometry(writer, leg, *in.skin);
+  add_rest_geometry(writer, leg, *in.skin, in.bones);
 
   msd::LegState state = msd::leg_rest_state(leg, scene.initial_angle);
   state.knee.velocity = scene.initial_velocity;
@@ -125,7 +130,7 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
   else
     writer.finish();
   write_xdmf((fs::path(dir) / "leg.xdmf").string(), "leg.h5", frame_times, sum.nodes, sum.tets,
-             in.skin->num_vertices(), in.skin->num_triangles());
+             in.skin->num_vertices(), in.skin->num_triangles(), in.bones.num_vertices(), in.bones.num_triangles());
   tbio::write_json_file((fs::path(dir) / "summary.json").string(), summary_json(sum, scene));
   return sum;
 }
@@ -137,9 +142,8 @@ std::vector<LegRunSummary> run_leg_scene(const LegScene& scene, const std::strin
   fs::create_directories(out_dir);
   std::error_code ignore;
   fs::remove(fs::path(out_dir) / "summary.json", ignore);
-  const CompiledLeg c = compile(scene);
-  const Instruments in = make_instruments(c.model, scene, c.input.surfaces.skin,
-                                          c.limb.mesh.embedded.at(msd::kPassiveTissue), c.limb.mesh.mesh.tets);
+  const CompiledLeg c = compile_leg(scene);
+  const Instruments in = make_leg_instruments(c, scene);
   std::vector<LegVariant> variants = scene.variants;
   if (variants.empty()) variants.push_back({"", scene.front_activation, scene.back_activation});
   std::vector<LegRunSummary> summaries;

@@ -165,6 +165,28 @@ void observe(const Instruments& in, const msd::LegState& state, const msd::LegSc
   f.skin_x.resize(3, in.skin->num_vertices());
   msd::embedded_positions(x, *in.embedding_tets, *in.skin_embedding, f.skin_x);
   f.rotation = msd::hinge_rotation(leg.knee, state.knee.angle);
+  f.bones_x.resize(3, in.bones.num_vertices());
+  for (int i = 0; i < in.bones.num_vertices(); ++i) {
+    const msd::Vec3 p = in.bones.vertices.col(i);
+    f.bones_x.col(i) = in.bone_lower[static_cast<size_t>(i)] ? msd::Vec3(leg.knee.centre + f.rotation * (p - leg.knee.centre)) : p;
+  }
+}
+
+void add_bone_surfaces(Instruments& in, const msd::TriangleMesh* upper_bone, const msd::TriangleMesh* lower_bone) {
+  in.bones = msd::TriangleMesh{};
+  in.bone_lower.clear();
+  int total = 0;
+  for (const msd::TriangleMesh* m : {upper_bone, lower_bone})
+    if (m) total += m->num_vertices();
+  in.bones.vertices.resize(3, total);
+  int offset = 0;
+  for (const msd::TriangleMesh* m : {upper_bone, lower_bone}) {
+    if (!m) continue;
+    in.bones.vertices.middleCols(offset, m->num_vertices()) = m->vertices;
+    for (const msd::Tri& t : m->triangles) in.bones.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+    in.bone_lower.insert(in.bone_lower.end(), static_cast<size_t>(m->num_vertices()), m == lower_bone ? 1 : 0);
+    offset += m->num_vertices();
+  }
 }
 
 std::vector<Sensor> leg_sensors(const Instruments& in) {

@@ -139,10 +139,17 @@ TEST(LegScene, AShortRunWritesSeriesFieldsXdmfObjFramesAndTheSummary) {
   // The pre-tension ramp (0.1-0.6 s) has begun: tension, and elastic energy in the strands.
   EXPECT_GT(r.series.at("tension_front_lower").back(), 0.0);
   EXPECT_GT(r.series.at("elastic_energy").back(), r.series.at("elastic_energy").front());
-  // Fields: the nodes and the embedded skin, one frame each time.
+  // Fields: the nodes, the embedded skin and the bone surfaces, one frame each time.
   ASSERT_TRUE(r.point_sets.count("nodes"));
   ASSERT_TRUE(r.point_sets.count("skin"));
   EXPECT_EQ(r.point_sets.at("skin").second, 6);
+  ASSERT_TRUE(r.point_sets.count("bones"));
+  EXPECT_EQ(r.point_sets.at("bones").second, 6);
+  {  // the femur's surface comes first and stays put (the femur is fixed); the lower bone turns with the knee
+    const tbio::PointSetData bones = tbio::read_point_set(dir + "/leg.h5", "bones");
+    EXPECT_FALSE(bones.triangles.empty());
+    for (const auto& frame : bones.displacement) EXPECT_EQ(frame.front(), (std::array<double, 3>{0.0, 0.0, 0.0}));
+  }
   // XDMF: every dataset it names exists in leg.h5 with the dimensions it declares.
   const std::string xdmf = read_text(dir + "/leg.xdmf");
   const hid_t file = H5Fopen((dir + "/leg.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -157,7 +164,7 @@ TEST(LegScene, AShortRunWritesSeriesFieldsXdmfObjFramesAndTheSummary) {
     ++items;
   }
   H5Fclose(file);
-  EXPECT_EQ(items, 2 * 6 * 3);  // two grids, six frames, three HDF items each
+  EXPECT_EQ(items, 3 * 6 * 3);  // three grids (tissue, skin, bones), six frames, three HDF items each
   EXPECT_NE(xdmf.find("<Time Value=\"0.2\"/>"), std::string::npos);
   // OBJ frames: six, each the whole skin.
   int objs = 0;

@@ -107,10 +107,12 @@ struct Results {
   std::string status() const;
 };
 
-/// One /fields point set: reference points (N), frame times (F) and
-/// displacements (F x N).
+/// One /fields point set: reference points (N), its triangles (if a
+/// surface), frame times (F) and displacements (F x N). A file cut off in the
+/// middle of a frame gives the frames that have both a time and displacements.
 struct PointSetData {
   std::vector<std::array<double, 3>> points;
+  std::vector<std::array<int, 3>> triangles;  ///< NAME_triangles when the set is a surface, else empty
   std::vector<double> time;
   std::vector<std::vector<std::array<double, 3>>> displacement;
 };

@@ -20,19 +20,22 @@ namespace leg {
 /// text, the constants used, the terms, the knee's control and the geometry.
 tbio::RunMeta run_meta(const LegScene& scene, const LegVariant& variant, const msd::LegModel& model);
 
-/// /fields "nodes" (rest positions, tets) and "skin" (rest vertices, triangles).
-void add_rest_geometry(tbio::ResultsWriter& writer, const msd::LegModel& model, const msd::TriangleMesh& skin);
+/// /fields "nodes" (rest positions, tets), "skin" (rest vertices, triangles)
+/// and, when the limb has bone surfaces, "bones" (their rest vertices, triangles).
+void add_rest_geometry(tbio::ResultsWriter& writer, const msd::LegModel& model, const msd::TriangleMesh& skin,
+                       const msd::TriangleMesh& bones);
 
-/// One frame's /fields: node and skin displacements from rest.
+/// One frame's /fields: node, skin and bone displacements from rest.
 void append_frame_fields(tbio::ResultsWriter& writer, const Frame& frame, const Instruments& in);
 
 /// DIR/skin/frame_NNNN.obj: the embedded skin of frame `index` (micrometres).
 void write_skin_obj(const std::string& dir, long index, const Frame& frame, const msd::TriangleMesh& skin);
 
-/// XDMF for ParaView: the tets and the skin, each frame's geometry the rest
-/// points plus that frame's displacement (a hyperslab of /fields/NAME_displacement in `h5_name`).
+/// XDMF for ParaView: the tets, the skin and the bones (bone_vertices > 0),
+/// each frame's geometry the rest points plus that frame's displacement (a
+/// hyperslab of /fields/NAME_displacement in `h5_name`).
 void write_xdmf(const std::string& path, const std::string& h5_name, const std::vector<double>& times, long nodes,
-                long tets, long skin_vertices, long skin_triangles);
+                long tets, long skin_vertices, long skin_triangles, long bone_vertices = 0, long bone_triangles = 0);
 
 /// summary.json of one run.
 tbio::Json summary_json(const LegRunSummary& s, const LegScene& scene);

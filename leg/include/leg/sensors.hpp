@@ -49,6 +49,11 @@ struct Instruments {
   std::vector<int> probe_nodes;                  ///< the wobble probe's free nodes
   std::vector<int> thigh_free;                   ///< free tissue nodes above the knee
   msd::Vec3 shank_rest{msd::Vec3::Zero()}, down{-msd::Vec3::UnitZ()};
+  /// The femur's and the lower bone's surfaces as one mesh (empty when the
+  /// limb has no bone surfaces), and per vertex whether it is the lower bone's
+  /// (turns with the hinge) or the femur's (fixed). Owned: set by add_bone_surfaces.
+  msd::TriangleMesh bones;
+  std::vector<char> bone_lower;
 };
 
 /// Throws msd::Error naming the scene file when a bulge area holds no skin
@@ -56,12 +61,16 @@ struct Instruments {
 Instruments make_instruments(const msd::LegModel& leg, const LegScene& scene, const msd::TriangleMesh& skin,
                              const msd::Embedding& skin_embedding, const std::vector<msd::Tet>& embedding_tets);
 
+/// Adds the limb's upper and lower bone surfaces (those it has) to `in.bones`.
+void add_bone_surfaces(Instruments& in, const msd::TriangleMesh* upper_bone, const msd::TriangleMesh* lower_bone);
+
 /// One recorded state and what several sensors derive from it.
 struct Frame {
   const msd::LegState* state = nullptr;
   const msd::LegScratch* scratch = nullptr;   ///< of the step that led to `state`
   const msd::LegControls* controls = nullptr;
   msd::Points skin_x;                          ///< embedded skin positions
+  msd::Points bones_x;                         ///< the bone surfaces, rigidly placed (3 x in.bones vertices)
   msd::Mat3 rotation{msd::Mat3::Identity()};   ///< the knee hinge's rotation
   double length_ratio[2] = {1.0, 1.0}, radius_ratio[2] = {1.0, 1.0};  ///< front, back muscle
   std::vector<double> straightness;            ///< per tendon: mean chord / path length of its strands
