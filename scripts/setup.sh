@@ -10,7 +10,7 @@ TB_PACKAGES=(
   libeigen3-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   libhdf5-openmpi-dev
   libdeal.ii-dev libsundials-dev openmpi-bin libopenblas0-serial
-  libgtest-dev libbenchmark-dev
+  libgtest-dev libbenchmark-dev libboost-dev
   python3 python3-numpy python3-h5py python3-matplotlib python3-jinja2 python3-yaml
   chromium
 )
@@ -28,10 +28,23 @@ tb_install_missing() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 }
 
+# The viewer's npm packages (viewer/package-lock.json: three.js, uPlot, esbuild,
+# playwright-core for the browser tests): Debian's npm when no npm is on PATH,
+# then `npm ci` whenever the lock file is newer than the installed tree.
+tb_viewer_packages() {
+  command -v npm >/dev/null 2>&1 || tb_install_missing nodejs npm
+  local v="$TB_ROOT/viewer"
+  if [ ! -f "$v/node_modules/.package-lock.json" ] || [ "$v/package-lock.json" -nt "$v/node_modules/.package-lock.json" ]; then
+    echo "tissuebench: installing the viewer's npm packages (viewer/package-lock.json)"
+    npm ci --prefix "$v" --no-audit --no-fund --loglevel=error
+  fi
+}
+
 tb_build() {
   cmake -S "$TB_ROOT" -B "$TB_ROOT/build" -DCMAKE_BUILD_TYPE=Release
   cmake --build "$TB_ROOT/build" -j"$(nproc)"
 }
 
 tb_install_missing "${TB_PACKAGES[@]}"
+tb_viewer_packages
 tb_build

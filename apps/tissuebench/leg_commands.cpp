@@ -5,11 +5,15 @@
 #include "leg/limb_input.hpp"
 #include "leg/run.hpp"
 #include "leg/scene.hpp"
+#include "leg/viewer.hpp"
 
 #include "msd/geometry/leg_generator.hpp"
+#include "msd/io/atomic_file.hpp"
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <utility>
 
 namespace app {
@@ -76,6 +80,53 @@ int cmd_leg_geometry(const LegGeometryArgs& args) {
   return 0;
 }
 
+tbio::Json run_leg_for_suite(const std::string& scene_file, const std::string& out_dir,
+                             const std::function<void(double, double)>& progress) {
+  namespace fs = std::filesystem;
+  const leg::LegScene scene = leg::read_leg_scene(scene_file);
+  const auto runs = leg::run_leg_scene(scene, out_dir, progress);
+  const std::string dir = "leg/" + fs::path(out_dir).filename().string();
+  tbio::Json entry;
+  entry["scene"] = scene.name;
+  entry["scene_file"] = scene_file;
+  entry["dir"] = dir;
+  entry["status"] = "complete";
+  entry["runs"] = tbio::Json::array();
+  for (const auto& r : runs) {
+    if (r.status != "complete") entry["status"] = "failed";
+    entry["runs"].push_back({{"variant", r.variant},
+                             {"dir", r.variant.empty() ? dir : dir + "/" + r.variant},
+                             {"status", r.status},
+                             {"failure", r.failure},
+                             {"wall_per_simulated_second", r.wall_per_simulated()}});
+  }
+  return entry;
+}
+
+int cmd_view(const ViewArgs& args) {
+  namespace fs = std::filesystem;
+  const std::string out = args.out.empty() ? (fs::path(args.run_dir) / "view.html").string() : args.out;
+  leg::ViewOptions options;
+  options.max_frames = args.max_frames;
+  tbio::Json config;
+  config["mode"] = "run";
+  config["run"] = leg::view_run_data(args.run_dir, options);
+  const std::string page = leg::viewer_page(config);
+  msd::write_file_atomically(out, [&](std::ostream& o) { o << page; });
+  const auto& run = config["run"];
+  std::printf("view: %s (%s, %zu frames, %.1f MB)\n", out.c_str(), run["status"].get<std::string>().c_str(),
+              run["frame_times"].size(), static_cast<double>(page.size()) / 1e6);
+  if (run["status"] != "complete")
+    std::printf("  the run is %s: the page shows what was written%s%s\n", run["status"].get<std::string>().c_str(),
+                run["failure"].get<std::string>().empty() ? "" : " and where it failed: ",
+                run["failure"].get<std::string>().c_str());
+  if (args.open) {
+    const std::string command = "xdg-open '" + out + "' >/dev/null 2>&1 &";
+    if (std::system(command.c_str()) != 0) std::printf("  could not start xdg-open; open the file in a browser\n");
+  }
+  return 0;
+}
+
 void add_leg_commands(CLI::App& cli, LegCommands& c) {
 
   c.mesh_cmd = cli.add_subcommand(
@@ -108,13 +159,41 @@ void add_leg_commands(CLI::App& cli, LegCommands& c) {
                                "Skin resolution: marching-tetrahedra cell (m); inner surfaces use half")
       ->capture_default_str();
   c.geometry_cmd->add_option("--out", c.geometry.out, "Output folder; default: msd/data/leg (the shipped files)");
+  c.view_cmd = cli.add_subcommand(
+      "view", "Write a self-contained web page that plays a leg run in 3D (skin and bones; orbit, zoom, play, "
+              "scrub, speed) with its time series plotted in sync; opens from a local file, no server");
+  c.view_cmd->add_option("run_dir", c.view.run_dir, "A leg run's folder (tissuebench leg ... --out RUN_DIR)")
+      ->required();
+  c.view_cmd->add_option("--out", c.view.out, "The page (HTML); default: RUN_DIR/view.html");
+  c.view_cmd->add_option("--max-frames", c.view.max_frames, "At most this many frames (every k-th and the last)")
+      ->check(CLI::Range(2, 100000))
+      ->capture_default_str();
+  c.view_cmd->add_flag("--open", c.view.open, "Open the page with xdg-open");
+  c.serve_cmd = cli.add_subcommand(
+      "serve", "Run a leg scene live in the browser: serves the viewer page on localhost and streams frames over a "
+               "WebSocket; sliders set the muscles' activations, knobs the knee torque and the obstacles, a button "
+               "resets");
+  c.serve_cmd->add_option("scene", c.serve.scene,
+                          "Scene file (YAML; see docs/leg-scenes.md); default: msd/data/scenes/hamstrings.yaml")
+      ->check(CLI::ExistingFile);
+  c.serve_cmd->add_option("--port", c.serve.port, "TCP port (0: any free port)")
+      ->check(CLI::Range(0, 65535))
+      ->capture_default_str();
+  c.serve_cmd->add_option("--bind", c.serve.bind, "Address to listen on (only this machine unless you say otherwise)")
+      ->capture_default_str();
+  c.serve_cmd->add_option("--seconds", c.serve.seconds, "Stop after this many wall seconds (0: until Ctrl-C)")
+      ->check(CLI::Range(0.0, 1e9));
+  c.serve_cmd->add_option("--threads", c.serve.threads, "Force-evaluation threads (default: the scene's)")
+      ->check(CLI::Range(1, 256));
 }
 
 std::optional<int> run_leg_command(const LegCommands& c, bool root_process) {
-  if (!*c.mesh_cmd && !*c.leg_cmd && !*c.geometry_cmd) return std::nullopt;
+  if (!*c.mesh_cmd && !*c.leg_cmd && !*c.geometry_cmd && !*c.view_cmd && !*c.serve_cmd) return std::nullopt;
   if (!root_process) return 0;
   if (*c.mesh_cmd) return cmd_mesh(c.mesh);
   if (*c.leg_cmd) return cmd_leg(c.leg);
+  if (*c.view_cmd) return cmd_view(c.view);
+  if (*c.serve_cmd) return cmd_serve(c.serve);
   return cmd_leg_geometry(c.geometry);
 }
 

@@ -1,9 +1,13 @@
-// The leg's subcommands (mesh, leg, leg-geometry): the part of the command
+// The leg's subcommands (mesh, leg, leg-geometry, view, serve): the part of the command
 // line that needs only the leg layer, shared by the full program and the
 // leg-only build (-DTISSUEBENCH_WITH_FEM=OFF). Exit codes as commands.hpp.
 #pragma once
 
+#include "tbio/json.hpp"
+
 #include <CLI/CLI.hpp>
+
+#include <functional>
 
 #include <optional>
 #include <string>
@@ -35,14 +39,42 @@ struct LegGeometryArgs {
 /// Writes the parametric leg's surfaces and its mesh scene (tissuebench leg-geometry).
 int cmd_leg_geometry(const LegGeometryArgs& args);
 
+struct ViewArgs {
+  std::string run_dir, out;  ///< out "" = RUN_DIR/view.html
+  int max_frames = 240;
+  bool open = false;
+};
+/// Writes the self-contained viewer page of a leg run (tissuebench view RUN_DIR).
+int cmd_view(const ViewArgs& args);
+
+struct ServeArgs {
+  std::string scene;              ///< "" = msd/data/scenes/hamstrings.yaml
+  int port = 8765;                ///< 0: any free port
+  std::string bind = "127.0.0.1";
+  double seconds = 0.0;           ///< > 0: stop after this many wall seconds (tests)
+  int threads = 0;                ///< > 0: force-evaluation threads (else the scene's)
+};
+/// Runs a scene live and serves the viewer page and its WebSocket (tissuebench serve).
+int cmd_serve(const ServeArgs& args);
+
+/// A leg scene run whole for the suite into out_dir: its manifest entry
+/// ({scene, scene_file, dir (the folder's name under the suite's leg/), status,
+/// runs: [{variant, dir, status, failure, wall_per_simulated_second}]}).
+tbio::Json run_leg_for_suite(const std::string& scene_file, const std::string& out_dir,
+                             const std::function<void(double, double)>& progress);
+
 /// The leg's subcommands as registered on a CLI::App, with their arguments.
 struct LegCommands {
   MeshArgs mesh;
   LegArgs leg;
   LegGeometryArgs geometry;
+  ViewArgs view;
+  ServeArgs serve;
   CLI::App* mesh_cmd = nullptr;
   CLI::App* leg_cmd = nullptr;
   CLI::App* geometry_cmd = nullptr;
+  CLI::App* view_cmd = nullptr;
+  CLI::App* serve_cmd = nullptr;
 };
 void add_leg_commands(CLI::App& cli, LegCommands& c);
 
