@@ -7,8 +7,10 @@ Usage: /usr/bin/python3 reports/make_report.py DIR      (DIR: `tissuebench suite
 Reads DIR/suite.json (the manifest) and the files it lists: the HDF5 results
 of the FEM reference and the MSD variants of each benchmark, their comparison
 JSONs, the sweep, stability, verification and convergence outputs (layouts in
-benchmarks/RESULTS.md). Needs Debian's python3-matplotlib, python3-h5py and
-python3-jinja2 (scripts/setup.sh installs them).
+benchmarks/RESULTS.md), and the leg scenes under its "leg" key (reports/leg_report.py:
+curves, a filmstrip checked not blank, the thesis' outcomes beside the measured
+ones). Needs Debian's python3-matplotlib, python3-h5py and python3-jinja2
+(scripts/setup.sh installs them).
 """
 import base64
 import html
@@ -22,6 +24,8 @@ import h5py
 import jinja2
 import matplotlib
 import yaml
+
+import leg_report
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -205,21 +209,26 @@ def sweep_section(d, path):
 
 def main(d):
     m = load(os.path.join(d, "suite.json"))
-    benches = [benchmark_section(d, b) for b in m["benchmarks"]]
-    sweeps = [sweep_section(d, p) for p in m["sweeps"]]
+    benches = [benchmark_section(d, b) for b in m.get("benchmarks", [])]
+    sweeps = [sweep_section(d, p) for p in m.get("sweeps", [])]
+    try:
+        legs = leg_report.leg_section(d, m)
+    except leg_report.LegRenderError as e:
+        sys.exit("report: the leg's filmstrip failed its check: %s" % e)
     stability = []
-    for p in m["stability"]:
+    for p in m.get("stability", []):
         s = load(os.path.join(d, p))
         stability.append({"spec": s["spec"], "dt": s["dt_search"], "extremes": [{
             "case": e["case"], "description": e["description"], "terms": e["terms"], "dt": num(e["dt"], 3),
             "finite": "yes" if e["finite"] else "NO", "failure_time": num(e["failure_time"], 3),
             "inverted": e["max_inverted"], "volume": num(e["volume_error"], 3)} for e in s["extremes"]]})
-    convergence = [load(os.path.join(d, p)) for p in m["convergence"]]
-    prov = dict(m["provenance"])
+    convergence = [load(os.path.join(d, p)) for p in m.get("convergence", [])]
+    prov = dict(m.get("provenance", {}))
     prov.update({"python": platform.python_version(), "matplotlib": matplotlib.__version__,
                  "h5py": h5py.__version__, "jinja2": jinja2.__version__})
     ctx = {"m": m, "prov": prov, "benches": benches, "sweeps": sweeps, "stability": stability,
-           "verification": m["verification"], "convergence": convergence, "pct": pct, "num": num}
+           "verification": m.get("verification", []), "convergence": convergence, "pct": pct, "num": num,
+           "legs": legs, "leg_sources": leg_report.pendulum_sources() if any(s["published"] for s in legs) else []}
     env = jinja2.Environment(loader=jinja2.FileSystemLoader(os.path.dirname(os.path.abspath(__file__))),
                              autoescape=jinja2.select_autoescape(["html"]))
     out = os.path.join(d, "report")

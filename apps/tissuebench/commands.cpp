@@ -1,5 +1,6 @@
 #include "commands.hpp"
 
+#include "leg_commands.hpp"
 #include "progress.hpp"
 
 #include "bench/calibration.hpp"
@@ -13,6 +14,7 @@
 #include "bench/suite.hpp"
 #include "bench/sweep.hpp"
 #include "fem/fem.hpp"
+#include "leg/scene.hpp"
 #include "msd/forces/element_forces.hpp"
 
 #include <yaml-cpp/yaml.h>
@@ -343,8 +345,14 @@ int cmd_suite(const SuiteArgs& args) {
       std::printf("%s\n", line.c_str());
       std::fflush(stdout);
     };
+  o.scenes_dir = std::string(TISSUEBENCH_DATA_DIR) + "/scenes";
+  o.check_leg = [](const std::string& file) { (void)leg::read_leg_scene(file); };
+  o.run_leg = [](const std::string& file, const std::string& out, const bench::Progress& progress) {
+    return run_leg_for_suite(file, out, progress);
+  };
   std::vector<std::unique_ptr<ProgressLine>> lines;
   o.progress = [&](const std::string& label) -> bench::Progress {
+    if (!lines.empty()) lines.back()->done();  // one bar per run: the last one ends its line
     lines.push_back(std::make_unique<ProgressLine>(label, !args.quiet && root()));
     ProgressLine* p = lines.back().get();
     return [p](double t, double end) { p->update(t, end); };

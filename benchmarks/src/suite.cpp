@@ -122,7 +122,7 @@ Spec suite_variant(const Spec& spec, const std::string& variant, const std::stri
 SuiteTier load_tier(const std::string& path) {
   const YAML::Node root = load_yaml_file(path, "tier file");
   const Fields f(root, "", path);
-  f.only({"tier", "description", "variants", "benchmarks", "sweeps", "stability", "verification", "convergence"});
+  f.only({"tier", "description", "variants", "benchmarks", "sweeps", "stability", "verification", "convergence", "leg"});
   SuiteTier t;
   t.file = path;
   t.name = f.text("tier");
@@ -181,6 +181,7 @@ SuiteTier load_tier(const std::string& path) {
     cv.edit_yaml = edit_text(c);
     t.convergence.push_back(cv);
   });
+  if (f.has("leg")) t.leg = f.text_list("leg");
   if (t.benchmarks.empty()) throw msd::Error(f.where("benchmarks") + "the tier lists no benchmarks");
   return t;
 }
@@ -479,7 +480,7 @@ tbio::Json run_convergence_studies(const SuiteTier& tier, const std::vector<Spec
 
 // The manifest's parts, each a JSON array from the runs above.
 struct ManifestParts {
-  tbio::Json benchmarks, sweeps, stability, verification, convergence;
+  tbio::Json benchmarks, sweeps, stability, verification, convergence, leg = tbio::Json::array();
 };
 
 // Writes DIR/suite.json (whole or not at all).
@@ -499,9 +500,43 @@ std::string write_manifest(const SuiteTier& tier, const fs::path& dir, double wa
   m["stability"] = parts.stability;
   m["verification"] = parts.verification;
   m["convergence"] = parts.convergence;
+  m["leg"] = parts.leg;
   m["failed_runs"] = failed;
   tbio::write_json_file(manifest, m);
   return manifest;
+}
+
+// The tier's leg scenes, found in the scenes folder (or beside the tier file)
+// and read, so a bad scene stops the suite before anything runs.
+std::vector<std::string> leg_scene_files(const SuiteTier& tier, const SuiteOptions& o) {
+  std::vector<std::string> files;
+  if (!tier.leg.empty() && (!o.check_leg || !o.run_leg))
+    throw msd::Error(tier.file + ": leg: this program cannot run leg scenes");
+  for (const std::string& name : tier.leg) {
+    const fs::path beside = fs::path(tier.file).parent_path() / name;
+    const fs::path file = fs::exists(beside) ? beside : fs::path(o.scenes_dir) / name;
+    if (!fs::exists(file))
+      throw msd::Error(tier.file + ": leg: no scene '" + name + "' (looked in " + o.scenes_dir + ")");
+    o.check_leg(file.string());
+    files.push_back(file.string());
+  }
+  return files;
+}
+
+// Each leg scene whole into DIR/leg/SCENE; a failed run is a result (counted).
+tbio::Json run_leg_scenes(const std::vector<std::string>& files, const fs::path& dir, const SuiteOptions& o,
+                          int& failed) {
+  tbio::Json out = tbio::Json::array();
+  for (const std::string& file : files) {
+    const std::string name = fs::path(file).stem().string();
+    const Progress progress = o.progress ? o.progress(name + " (leg)") : Progress{};
+    tbio::Json entry = o.run_leg(file, (dir / "leg" / name).string(), progress);
+    for (const auto& r : entry["runs"])
+      if (r.value("status", "") != "complete") ++failed;
+    log_line(o, "leg " + name + ": " + entry.value("status", "?"));
+    out.push_back(std::move(entry));
+  }
+  return out;
 }
 
 }  // namespace
@@ -510,6 +545,7 @@ int run_suite(const SuiteTier& tier, const SuiteOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   const fs::path dir = o.out_dir;
   const SuiteSpecs specs = read_suite_specs(tier, o);  // bad input stops the suite before any run
+  const std::vector<std::string> leg_files = leg_scene_files(tier, o);
   fs::create_directories(dir);
   int failed = 0;
   std::map<std::string, std::string> fem_of_text;  // spec text -> FEM file (reused by the sweeps)
@@ -519,6 +555,7 @@ int run_suite(const SuiteTier& tier, const SuiteOptions& o) {
   parts.stability = run_stability_checks(tier, specs.stability, dir, o);
   parts.verification = run_verifications(specs.verification, dir, o);
   parts.convergence = run_convergence_studies(tier, specs.convergence, dir, o);
+  parts.leg = run_leg_scenes(leg_files, dir, o, failed);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::string manifest = write_manifest(tier, dir, wall, parts, failed);
   log_line(o, "suite " + tier.name + ": " + json_number(wall, 4) + " s; manifest " + manifest);

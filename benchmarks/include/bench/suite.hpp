@@ -59,6 +59,9 @@ struct SuiteTier {
     std::string edit_yaml;
   };
   std::vector<Convergence> convergence;
+  /// Leg scenes (files, relative to the scenes folder) run whole into
+  /// DIR/leg/SCENE, for the report's leg section.
+  std::vector<std::string> leg;
 };
 
 /// Reads a tier file; errors name the file and field.
@@ -71,6 +74,14 @@ struct SuiteOptions {
   std::string executable;        ///< tissuebench, for the sweep's child runs
   std::function<void(const std::string&)> log;
   std::function<Progress(const std::string& label)> progress;  ///< a progress callback per run
+  /// The leg layer, given by the program (the harness does not depend on it):
+  /// `check_leg` reads a scene and throws msd::Error for bad input; `run_leg`
+  /// runs one into a folder and returns its manifest entry ({scene, scene_file,
+  /// dir, status, runs: [{variant, dir, status, failure, wall_per_simulated_second}]},
+  /// dir relative to out_dir). Needed when the tier lists leg scenes.
+  std::string scenes_dir;  ///< where tier leg scenes are looked up
+  std::function<void(const std::string& scene_file)> check_leg;
+  std::function<tbio::Json(const std::string& scene_file, const std::string& out_dir, const Progress& progress)> run_leg;
 };
 
 /// Runs the tier; writes DIR/suite.json (and everything it lists). Returns the
