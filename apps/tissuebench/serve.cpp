@@ -294,6 +294,8 @@ tbio::Json hello_message(const leg::LiveLeg& live) {
   h["meshes"] = tbio::Json::array();
   h["meshes"].push_back(leg::viewer_mesh("skin", in.skin->vertices, in.skin->triangles));
   if (in.bones.num_vertices() > 0) h["meshes"].push_back(leg::viewer_mesh("bones", in.bones.vertices, in.bones.triangles));
+  if (in.obstacles.num_vertices() > 0)
+    h["meshes"].push_back(leg::viewer_mesh("obstacles", in.obstacles.vertices, in.obstacles.triangles));
   h["controls"] = controls_json(live.controls());
   h["series"] = tbio::Json::array();
   for (const leg::Sensor& s : live.sensors())
@@ -319,6 +321,8 @@ std::string frame_message(leg::LiveLeg& live, double speed, bool slower) {
   m["positions"] = tbio::Json::array();
   m["positions"].push_back({{"name", "skin"}, {"b64", leg::positions_base64(f.skin_x)}});
   if (f.bones_x.cols() > 0) m["positions"].push_back({{"name", "bones"}, {"b64", leg::positions_base64(f.bones_x)}});
+  if (f.obstacles_x.cols() > 0)
+    m["positions"].push_back({{"name", "obstacles"}, {"b64", leg::positions_base64(f.obstacles_x)}});
   return m.dump();
 }
 

@@ -57,17 +57,19 @@ tbio::RunMeta run_meta(const LegScene& scene, const LegVariant& variant, const m
 }
 
 void add_rest_geometry(tbio::ResultsWriter& writer, const msd::LegModel& model, const msd::TriangleMesh& skin,
-                       const msd::TriangleMesh& bones) {
+                       const msd::TriangleMesh& bones, const msd::TriangleMesh& obstacles) {
   std::vector<std::vector<int>> cells;
   for (const msd::Tet& t : model.tets) cells.push_back({t[0], t[1], t[2], t[3]});
   writer.add_point_set("nodes", rows_of(model.tissue.rest_positions), cells);
   std::vector<std::vector<int>> tris;
   for (const msd::Tri& t : skin.triangles) tris.push_back({t[0], t[1], t[2]});
   writer.add_point_set("skin", rows_of(skin.vertices), tris);
-  if (bones.num_vertices() == 0) return;
-  tris.clear();
-  for (const msd::Tri& t : bones.triangles) tris.push_back({t[0], t[1], t[2]});
-  writer.add_point_set("bones", rows_of(bones.vertices), tris);
+  for (const auto& [name, mesh] : {std::pair<const char*, const msd::TriangleMesh*>{"bones", &bones}, {"obstacles", &obstacles}}) {
+    if (mesh->num_vertices() == 0) continue;
+    tris.clear();
+    for (const msd::Tri& t : mesh->triangles) tris.push_back({t[0], t[1], t[2]});
+    writer.add_point_set(name, rows_of(mesh->vertices), tris);
+  }
 }
 
 void append_frame_fields(tbio::ResultsWriter& writer, const Frame& frame, const Instruments& in) {
@@ -75,6 +77,8 @@ void append_frame_fields(tbio::ResultsWriter& writer, const Frame& frame, const 
   writer.append_frame("nodes", t, displacement(frame.state->tissue.x, in.leg->tissue.rest_positions));
   writer.append_frame("skin", t, displacement(frame.skin_x, in.skin->vertices));
   if (in.bones.num_vertices() > 0) writer.append_frame("bones", t, displacement(frame.bones_x, in.bones.vertices));
+  if (in.obstacles.num_vertices() > 0)
+    writer.append_frame("obstacles", t, displacement(frame.obstacles_x, in.obstacles.vertices));
 }
 
 void write_skin_obj(const std::string& dir, long index, const Frame& frame, const msd::TriangleMesh& skin) {

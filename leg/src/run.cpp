@@ -63,7 +63,7 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
   std::vector<tbio::SeriesColumn> cols;
   for (const Sensor& s : sensors) cols.push_back({s.name, s.unit});
   tbio::ResultsWriter writer((fs::path(dir) / "leg.h5").string(), run_meta(scene, variant, leg), cols);
-  add_rest_geometry(writer, leg, *in.skin, in.bones);
+  add_rest_geometry(writer, leg, *in.skin, in.bones, in.obstacles);
 
   msd::LegState state = msd::leg_rest_state(leg, scene.initial_angle);
   state.knee.velocity = scene.initial_velocity;

@@ -103,6 +103,14 @@ Instruments make_instruments(const msd::LegModel& leg, const LegScene& scene, co
   in.skin_embedding = &skin_embedding;
   in.embedding_tets = &embedding_tets;
   in.skin_normals = msd::vertex_normals(skin);
+  for (size_t k = 0; k < leg.obstacles.size(); ++k) {
+    const msd::TriangleMesh m = obstacle_surface(leg.obstacles[k]);
+    const int offset = in.obstacles.num_vertices();
+    in.obstacles.vertices.conservativeResize(3, offset + m.num_vertices());
+    in.obstacles.vertices.rightCols(m.num_vertices()) = m.vertices;
+    for (const msd::Tri& t : m.triangles) in.obstacles.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+    in.obstacle_of.insert(in.obstacle_of.end(), static_cast<size_t>(m.num_vertices()), static_cast<int>(k));
+  }
   const msd::Model& tm = leg.tissue;
   const int n = tm.num_nodes();
   for (const msd::Element& e : tm.elements) in.tet_region.push_back(e.region);
@@ -165,11 +173,38 @@ void observe(const Instruments& in, const msd::LegState& state, const msd::LegSc
   f.skin_x.resize(3, in.skin->num_vertices());
   msd::embedded_positions(x, *in.embedding_tets, *in.skin_embedding, f.skin_x);
   f.rotation = msd::hinge_rotation(leg.knee, state.knee.angle);
+  f.obstacles_x.resize(3, in.obstacles.num_vertices());
+  for (int i = 0; i < in.obstacles.num_vertices(); ++i) {
+    const size_t k = static_cast<size_t>(in.obstacle_of[static_cast<size_t>(i)]);
+    f.obstacles_x.col(i) = in.obstacles.vertices.col(i);
+    if (k < controls.obstacle_offset.size()) f.obstacles_x.col(i) += controls.obstacle_offset[k];
+  }
   f.bones_x.resize(3, in.bones.num_vertices());
   for (int i = 0; i < in.bones.num_vertices(); ++i) {
     const msd::Vec3 p = in.bones.vertices.col(i);
     f.bones_x.col(i) = in.bone_lower[static_cast<size_t>(i)] ? msd::Vec3(leg.knee.centre + f.rotation * (p - leg.knee.centre)) : p;
   }
+}
+
+msd::TriangleMesh obstacle_surface(const msd::RigidObstacle& ob, double length) {
+  // A frame (u, w, n) with n the cylinder's axis or the plane's normal.
+  const msd::Vec3 n = (ob.shape == msd::ObstacleShape::Cylinder ? ob.cylinder.axis : ob.plane.normal).normalized();
+  const msd::Vec3 u = (std::abs(n.x()) < 0.9 ? msd::Vec3::UnitX() : msd::Vec3::UnitY()).cross(n).normalized();
+  const msd::Vec3 w = n.cross(u);
+  msd::Mat3 frame;
+  frame << u, w, n;
+  msd::TriangleMesh m;
+  msd::Vec3 centre;
+  if (ob.shape == msd::ObstacleShape::Cylinder) {
+    m = msd::make_cylinder(ob.cylinder.radius, length, 16);
+    m.vertices.row(2).array() -= 0.5 * length;
+    centre = ob.cylinder.point;
+  } else {
+    m = msd::make_box(msd::Vec3(-0.5 * length, -0.5 * length, -0.002), msd::Vec3(0.5 * length, 0.5 * length, 0.0));
+    centre = ob.plane.point;
+  }
+  for (int i = 0; i < m.num_vertices(); ++i) m.vertices.col(i) = centre + frame * msd::Vec3(m.vertices.col(i));
+  return m;
 }
 
 void add_bone_surfaces(Instruments& in, const msd::TriangleMesh* upper_bone, const msd::TriangleMesh* lower_bone) {

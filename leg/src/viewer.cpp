@@ -37,8 +37,10 @@ size_t find_placeholder(const std::string& page, const std::string& placeholder)
   return at;
 }
 
-const char* colour_of(const std::string& mesh) { return mesh == "bones" ? "#efe9dc" : "#d9a184"; }
-double opacity_of(const std::string& mesh) { return mesh == "bones" ? 1.0 : 0.55; }
+const char* colour_of(const std::string& mesh) {
+  return mesh == "bones" ? "#efe9dc" : mesh == "obstacles" ? "#6f8fb0" : "#d9a184";
+}
+double opacity_of(const std::string& mesh) { return mesh == "skin" ? 0.55 : mesh == "obstacles" ? 0.85 : 1.0; }
 
 template <class T>
 std::string base64_of(const std::vector<T>& v) {
@@ -185,12 +187,10 @@ tbio::Json view_run_data(const std::string& run_dir, const ViewOptions& options)
   for (size_t f : frames) run["frame_times"].push_back(skin.time[f]);
   run["meshes"] = tbio::Json::array();
   run["meshes"].push_back(run_mesh("skin", skin, frames));
-  if (r.point_sets.count("bones")) {
-    const tbio::PointSetData bones = tbio::read_point_set(h5.string(), "bones");
-    std::vector<size_t> bone_frames;
-    for (size_t f : frames)
-      if (f < bones.time.size()) bone_frames.push_back(f);
-    if (bone_frames.size() == frames.size()) run["meshes"].push_back(run_mesh("bones", bones, frames));
+  for (const char* name : {"bones", "obstacles"}) {
+    if (!r.point_sets.count(name)) continue;
+    const tbio::PointSetData set = tbio::read_point_set(h5.string(), name);
+    if (set.time.size() >= available) run["meshes"].push_back(run_mesh(name, set, frames));
   }
   tbio::Json columns = tbio::Json::array();
   const auto time = r.series.find("time");

@@ -21,11 +21,12 @@ namespace leg {
 tbio::RunMeta run_meta(const LegScene& scene, const LegVariant& variant, const msd::LegModel& model);
 
 /// /fields "nodes" (rest positions, tets), "skin" (rest vertices, triangles)
-/// and, when the limb has bone surfaces, "bones" (their rest vertices, triangles).
+/// and, when there are any, "bones" (the bone surfaces) and "obstacles" (the
+/// obstacles drawn, Instruments::obstacles): rest vertices, triangles.
 void add_rest_geometry(tbio::ResultsWriter& writer, const msd::LegModel& model, const msd::TriangleMesh& skin,
-                       const msd::TriangleMesh& bones);
+                       const msd::TriangleMesh& bones, const msd::TriangleMesh& obstacles);
 
-/// One frame's /fields: node, skin and bone displacements from rest.
+/// One frame's /fields: node, skin, bone and obstacle displacements from rest.
 void append_frame_fields(tbio::ResultsWriter& writer, const Frame& frame, const Instruments& in);
 
 /// DIR/skin/frame_NNNN.obj: the embedded skin of frame `index` (micrometres).

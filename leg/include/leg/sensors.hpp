@@ -54,12 +54,21 @@ struct Instruments {
   /// (turns with the hinge) or the femur's (fixed). Owned: set by add_bone_surfaces.
   msd::TriangleMesh bones;
   std::vector<char> bone_lower;
+  /// The rigid obstacles drawn (empty without obstacles): each cylinder a
+  /// 40 cm piece of its axis, each plane a 40 cm square about its point; per
+  /// vertex its obstacle (moved by that obstacle's offset). Set by make_instruments.
+  msd::TriangleMesh obstacles;
+  std::vector<int> obstacle_of;
 };
 
 /// Throws msd::Error naming the scene file when a bulge area holds no skin
 /// vertex or the wobble probe no free node.
 Instruments make_instruments(const msd::LegModel& leg, const LegScene& scene, const msd::TriangleMesh& skin,
                              const msd::Embedding& skin_embedding, const std::vector<msd::Tet>& embedding_tets);
+
+/// A surface to draw for `ob`: a cylinder as a 16-sided prism `length` long
+/// centred on its axis point, a plane as a square of side `length` about its point.
+msd::TriangleMesh obstacle_surface(const msd::RigidObstacle& ob, double length = 0.4);
 
 /// Adds the limb's upper and lower bone surfaces (those it has) to `in.bones`.
 void add_bone_surfaces(Instruments& in, const msd::TriangleMesh* upper_bone, const msd::TriangleMesh* lower_bone);
@@ -71,6 +80,7 @@ struct Frame {
   const msd::LegControls* controls = nullptr;
   msd::Points skin_x;                          ///< embedded skin positions
   msd::Points bones_x;                         ///< the bone surfaces, rigidly placed (3 x in.bones vertices)
+  msd::Points obstacles_x;                     ///< the obstacles drawn, at their offsets (3 x in.obstacles vertices)
   msd::Mat3 rotation{msd::Mat3::Identity()};   ///< the knee hinge's rotation
   double length_ratio[2] = {1.0, 1.0}, radius_ratio[2] = {1.0, 1.0};  ///< front, back muscle
   std::vector<double> straightness;            ///< per tendon: mean chord / path length of its strands
