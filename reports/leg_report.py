@@ -73,6 +73,7 @@ BACKGROUND = (1.0, 1.0, 1.0)   # the tiles' background (white)
 SKIN_RGB = np.array([0.90, 0.64, 0.50])   # flesh
 SKIN_ALPHA = 0.13
 BONE_RGB = np.array([0.97, 0.95, 0.88])   # bone
+OBSTACLE_RGB = np.array([0.44, 0.56, 0.69])   # a rigid obstacle (the viewer's blue)
 BONE_EDGE_SHADE = 0.30         # the darkest a bone face gets (grazing light)
 LIGHT = np.array([0.35, -1.0, 0.55])      # towards the light: from the camera's side, above, in front
 MAX_FACES = 16000              # skin + bone triangles per tile before decimation (keeps a tile near 1 s)
@@ -200,6 +201,9 @@ class LegFrames:
                 self.bone_points = fl["bones_points"][()]
                 self.bone_tris = fl["bones_triangles"][()].astype(np.int64)
                 self.bone_time = fl["bones_time"][()]
+            # the obstacles as the run drew them (a piece of each cylinder, a square of each plane)
+            self.obstacle_points = fl["obstacles_points"][()] if "obstacles_points" in fl else None
+            self.obstacle_tris = fl["obstacles_triangles"][()].astype(np.int64) if "obstacles_triangles" in fl else None
         self.bones_note = "bones: /fields/bones_*"
         if not self.has_bone_fields:
             self._bones_from_geometry()
@@ -272,6 +276,13 @@ class LegFrames:
         x[self.n_upper:] = (x[self.n_upper:] - self.knee_centre) @ r.T + self.knee_centre
         return x
 
+    def obstacles(self, i, f):
+        """The obstacles' surfaces at frame i (None when the run has none)."""
+        if self.obstacle_points is None or "fields/obstacles_displacement" not in f:
+            return None
+        ds = f["fields/obstacles_displacement"]
+        return self.obstacle_points + ds[min(i, ds.shape[0] - 1)]
+
     def limits(self):
         """Bounding box of skin and bones over every frame (finite values)."""
         lo = np.full(3, np.inf)
@@ -311,7 +322,7 @@ def shaded(polys, rgb, alpha, floor):
     return c
 
 
-def render_tile(skin_xyz, skin_faces, bone_xyz, bone_faces, lo, hi):
+def render_tile(skin_xyz, skin_faces, bone_xyz, bone_faces, lo, hi, obstacle_xyz=None, obstacle_faces=None):
     """One frame, offscreen: an (H, W, 3) uint8 image on the BACKGROUND,
     cropped to the box [lo, hi] as the camera sees it (so every frame of a
     strip, drawn with the same box, has the same size and framing)."""
@@ -330,6 +341,10 @@ def render_tile(skin_xyz, skin_faces, bone_xyz, bone_faces, lo, hi):
         p = p[np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]) @ EYE > 0]
         polys.append(p)
         colours.append(shaded(p, BONE_RGB, 1.0, BONE_EDGE_SHADE))
+    if obstacle_xyz is not None and obstacle_faces is not None and len(obstacle_faces):
+        p = obstacle_xyz[obstacle_faces]
+        polys.append(p)
+        colours.append(shaded(p, OBSTACLE_RGB, 0.85, 0.5))
     if skin_xyz is not None and len(skin_faces):
         p = skin_xyz[skin_faces]
         polys.append(p)
@@ -430,10 +445,12 @@ def render_frames(legf, indices, lo, hi, shift=None):
             if legf.bone_map is not None:
                 b_labels, b_faces, b_n = legf.bone_map
                 b = cluster_positions(legf.bones(i, f), b_labels, b_n)
+            o = legf.obstacles(i, f)
             if shift is not None:
                 x = x + shift
                 b = None if b is None else b + shift
-            tiles.append(render_tile(x, s_faces, b, b_faces, lo, hi))
+                o = None if o is None else o + shift
+            tiles.append(render_tile(x, s_faces, b, b_faces, lo, hi, o, legf.obstacle_tris))
     return tiles
 
 
@@ -485,7 +502,7 @@ def filmstrip(legf, what, tiles=TILES):
                         bottom=0.01)
     note = ("%d of %d frames: the first, the knee's most flexed and most extended, its turning points (those "
             "ending its largest swings), the last, filled up evenly; one camera for the strip: side view (x forward to the right, z up, "
-            "looking along +y, orthographic), limits fixed over all frames; skin translucent, bones opaque; "
+            "looking along +y, orthographic), limits fixed over all frames; skin translucent, bones opaque, obstacles (if any) blue; "
             "the arrow is gravity. %s. Skin %d of %d triangles drawn. Every tile checked not blank "
             "(%s %% of its pixels off the background)."
             % (len(idx), n, legf.bones_note, len(legf.skin_map[1]), len(legf.skin_tris),
