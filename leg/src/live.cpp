@@ -18,6 +18,17 @@ constexpr double kObstacleSpeed = 0.2;
 /// The knobs' reach from an obstacle's rest placement, m, and the added knee torque's, N m.
 constexpr double kObstacleReach = 0.15, kTorqueReach = 30.0;
 
+/// Why `value` cannot be set on control `id` of `controls` ("" when it can).
+std::string control_refusal(const std::vector<LiveControl>& controls, const std::string& id, double value) {
+  if (!std::isfinite(value)) return "the value is not finite";
+  for (const LiveControl& c : controls)
+    if (c.id == id)
+      return value < c.min || value > c.max ? id + " = " + tbio::json_number(value) + " is outside [" +
+                                                  tbio::json_number(c.min) + ", " + tbio::json_number(c.max) + "]"
+                                            : "";
+  return "no control '" + id + "'";
+}
+
 }  // namespace
 
 std::string parse_live_message(const std::string& text, const std::vector<LiveControl>& controls, LiveCommand& cmd) {
@@ -39,15 +50,8 @@ std::string parse_live_message(const std::string& text, const std::vector<LiveCo
   if (!j.contains("value") || !j["value"].is_number()) return "message refused: set needs a numeric \"value\"";
   cmd.id = j["id"].get<std::string>();
   cmd.value = j["value"].get<double>();
-  if (!std::isfinite(cmd.value)) return "message refused: the value is not finite";
-  for (const LiveControl& c : controls)
-    if (c.id == cmd.id) {
-      if (cmd.value < c.min || cmd.value > c.max)
-        return "message refused: " + cmd.id + " = " + tbio::json_number(cmd.value) + " is outside [" +
-               tbio::json_number(c.min) + ", " + tbio::json_number(c.max) + "]";
-      return "";
-    }
-  return "message refused: no control '" + cmd.id + "'";
+  const std::string why = control_refusal(controls, cmd.id, cmd.value);
+  return why.empty() ? "" : "message refused: " + why;
 }
 
 LiveLeg::LiveLeg(LegScene scene)
@@ -80,33 +84,30 @@ LiveLeg::LiveLeg(LegScene scene)
 void LiveLeg::reset_controls() { controls_ = start_controls_; }
 
 std::string LiveLeg::set(const std::string& id, double value) {
-  for (LiveControl& c : controls_) {
-    if (c.id != id) continue;
-    if (!std::isfinite(value)) return "control '" + id + "': the value is not a finite number";
-    if (value < c.min || value > c.max)
-      return "control '" + id + "': " + std::to_string(value) + " is outside [" + std::to_string(c.min) + ", " +
-             std::to_string(c.max) + "]";
-    c.value = value;
-    return "";
-  }
-  return "no control '" + id + "'";
+  const std::string why = control_refusal(controls_, id, value);
+  if (!why.empty()) return why;
+  for (LiveControl& c : controls_)
+    if (c.id == id) c.value = value;
+  return "";
+}
+
+msd::Vec3 LiveLeg::knob_target(size_t obstacle) const {
+  msd::Vec3 target;
+  for (int a = 0; a < 3; ++a) target[a] = controls_[3 + 3 * obstacle + static_cast<size_t>(a)].value;
+  return target;
 }
 
 void LiveLeg::reset() {
   const LegScene& s = *scene_;
   const msd::LegModel& leg = compiled_.model;
-  state_ = msd::leg_rest_state(leg, s.initial_angle);
-  state_.knee.velocity = s.initial_velocity;
-  msd::place_attached(leg.knee, state_.knee, leg.tissue.rest_positions, leg.lower_nodes, state_.tissue.x,
-                      state_.tissue.v);
+  state_ = start_state(leg, s);
   scratch_ = msd::LegScratch{};
   leg_controls_ = initial_controls(leg, s);
   engaged_ = !s.tendons_engage_at;
   activation_[0] = start_controls_[0].value;
   activation_[1] = start_controls_[1].value;
-  obstacle_at_.assign(leg.obstacles.size(), msd::Vec3::Zero());
-  for (size_t k = 0; k < leg.obstacles.size(); ++k)
-    for (int a = 0; a < 3; ++a) obstacle_at_[k][a] = controls_[3 + 3 * k + static_cast<size_t>(a)].value;
+  obstacle_at_.resize(leg.obstacles.size());
+  for (size_t k = 0; k < leg.obstacles.size(); ++k) obstacle_at_[k] = knob_target(k);
   steps_ = 0;
   apply_controls(0.0, 0.0);
   msd::LegState probe = state_;  // the step-0 diagnostics, as a run's first row
@@ -124,9 +125,7 @@ void LiveLeg::apply_controls(double t, double elapsed) {
   leg_controls_.back_activation = activation_[1];
   leg_controls_.joint_torque += controls_[2].value;
   for (size_t k = 0; k < obstacle_at_.size(); ++k) {
-    msd::Vec3 target;
-    for (int a = 0; a < 3; ++a) target[a] = controls_[3 + 3 * k + static_cast<size_t>(a)].value;
-    const msd::Vec3 gap = target - obstacle_at_[k];
+    const msd::Vec3 gap = knob_target(k) - obstacle_at_[k];
     const double reach = kObstacleSpeed * elapsed;
     const msd::Vec3 move = gap.norm() > reach ? msd::Vec3(gap * (reach / gap.norm())) : gap;
     obstacle_at_[k] += move;
@@ -140,7 +139,7 @@ bool LiveLeg::step(long n) {
   const msd::LegModel& leg = compiled_.model;
   try {
     for (long i = 0; i < n; ++i) {
-      if (!engaged_ && steps_ * s.dt >= *s.tendons_engage_at - 1e-12) {
+      if (!engaged_ && tendons_due(s, steps_ * s.dt)) {
         engage_tendons(leg, state_, leg_controls_);
         engaged_ = true;
       }

@@ -29,6 +29,13 @@ CompiledLeg compile_leg(const LegScene& scene) {
   return c;
 }
 
+msd::LegState start_state(const msd::LegModel& leg, const LegScene& scene) {
+  msd::LegState state = msd::leg_rest_state(leg, scene.initial_angle);
+  state.knee.velocity = scene.initial_velocity;
+  msd::place_attached(leg.knee, state.knee, leg.tissue.rest_positions, leg.lower_nodes, state.tissue.x, state.tissue.v);
+  return state;
+}
+
 Instruments make_leg_instruments(const CompiledLeg& c, const LegScene& scene) {
   Instruments in = make_instruments(c.model, scene, c.input.surfaces.skin,
                                     c.limb.mesh.embedded.at(msd::kPassiveTissue), c.limb.mesh.mesh.tets);
@@ -65,9 +72,7 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
   tbio::ResultsWriter writer((fs::path(dir) / "leg.h5").string(), run_meta(scene, variant, leg), cols);
   add_rest_geometry(writer, leg, *in.skin, in.bones, in.obstacles);
 
-  msd::LegState state = msd::leg_rest_state(leg, scene.initial_angle);
-  state.knee.velocity = scene.initial_velocity;
-  msd::place_attached(leg.knee, state.knee, leg.tissue.rest_positions, leg.lower_nodes, state.tissue.x, state.tissue.v);
+  msd::LegState state = start_state(leg, scene);
   msd::LegScratch scratch;
   msd::LegControls controls = initial_controls(leg, scene);
   bool engaged = !scene.tendons_engage_at;
@@ -101,7 +106,7 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
   record();
   try {
     for (long k = 1; k <= total_steps; ++k) {
-      if (!engaged && (k - 1) * scene.dt >= *scene.tendons_engage_at - 1e-12) {
+      if (!engaged && tendons_due(scene, (k - 1) * scene.dt)) {
         engage_tendons(leg, state, controls);
         engaged = true;
       }

@@ -20,6 +20,11 @@ msd::LegControls initial_controls(const msd::LegModel& model, const LegScene& sc
 /// the obstacles' offsets and velocities.
 void drive(const LegScene& scene, const LegVariant& variant, double t, double dt, msd::LegControls& controls);
 
+/// Whether the scene's slack tendons engage at the step starting at t.
+inline bool tendons_due(const LegScene& scene, double t) {
+  return scene.tendons_engage_at && t >= *scene.tendons_engage_at - 1e-12;
+}
+
 /// Engages tendons that were slack: each strand's natural length becomes its
 /// path's length in the current state.
 void engage_tendons(const msd::LegModel& model, const msd::LegState& state, msd::LegControls& controls);

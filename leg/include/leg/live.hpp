@@ -79,6 +79,8 @@ class LiveLeg {
   /// The controls of the step ending at t; the activations and obstacles move
   /// towards their sliders and knobs for `elapsed` seconds (0: not at all).
   void apply_controls(double t, double elapsed);
+  /// Where obstacle `obstacle`'s knobs ask it to be (its offset, m).
+  msd::Vec3 knob_target(size_t obstacle) const;
   std::unique_ptr<const LegScene> scene_;
   CompiledLeg compiled_;
   Instruments in_;

@@ -23,6 +23,10 @@ struct CompiledLeg {
 /// naming the file for bad geometry or an unphysical constant.
 CompiledLeg compile_leg(const LegScene& scene);
 
+/// The leg at the scene's start: at rest, the knee at its initial angle and
+/// velocity, the lower bone's nodes placed by the hinge.
+msd::LegState start_state(const msd::LegModel& leg, const LegScene& scene);
+
 /// The instruments of `c` (leg/sensors.hpp), with the limb's bone surfaces.
 /// Refers to `c` and `scene`: both must outlive it.
 Instruments make_leg_instruments(const CompiledLeg& c, const LegScene& scene);
