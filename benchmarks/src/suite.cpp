@@ -313,12 +313,14 @@ struct SuiteSpecs {
   std::vector<Spec> sweeps, stability, verification, convergence;
 };
 
+// A file a tier names: beside the tier file first, then in `folder`.
+std::string find_tier_file(const SuiteTier& tier, const std::string& folder, const std::string& name) {
+  const fs::path beside = fs::path(tier.file).parent_path() / name;
+  return fs::exists(beside) ? beside.string() : (fs::path(folder) / name).string();
+}
+
 SuiteSpecs read_suite_specs(const SuiteTier& tier, const SuiteOptions& o) {
-  // Specs are looked up beside the tier file first, then in the specs folder.
-  auto spec_file = [&](const std::string& name) {
-    const fs::path beside = fs::path(tier.file).parent_path() / name;
-    return fs::exists(beside) ? beside.string() : (fs::path(o.specs_dir) / name).string();
-  };
+  auto spec_file = [&](const std::string& name) { return find_tier_file(tier, o.specs_dir, name); };
   SuiteSpecs specs;
   for (const auto& b : tier.benchmarks) {
     Job j{edited(load_spec(spec_file(b.spec)), b.edit_yaml), {}};
@@ -513,12 +515,11 @@ std::vector<std::string> leg_scene_files(const SuiteTier& tier, const SuiteOptio
   if (!tier.leg.empty() && (!o.check_leg || !o.run_leg))
     throw msd::Error(tier.file + ": leg: this program cannot run leg scenes");
   for (const std::string& name : tier.leg) {
-    const fs::path beside = fs::path(tier.file).parent_path() / name;
-    const fs::path file = fs::exists(beside) ? beside : fs::path(o.scenes_dir) / name;
+    const std::string file = find_tier_file(tier, o.scenes_dir, name);
     if (!fs::exists(file))
       throw msd::Error(tier.file + ": leg: no scene '" + name + "' (looked in " + o.scenes_dir + ")");
-    o.check_leg(file.string());
-    files.push_back(file.string());
+    o.check_leg(file);
+    files.push_back(file);
   }
   return files;
 }
