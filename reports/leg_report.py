@@ -62,6 +62,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 from mpl_toolkits.mplot3d import proj3d  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from render_leg import read_obj  # noqa: E402
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 OUTCOMES_FILE = os.path.join(HERE, "leg_outcomes.yaml")
 DEFAULT_GEOMETRY = os.path.join(HERE, "..", "msd", "data", "leg", "leg.yaml")
@@ -120,19 +123,6 @@ def load_json(path):
 def load_outcomes(path=OUTCOMES_FILE):
     with open(path) as f:
         return yaml.safe_load(f)
-
-
-def read_obj(path):
-    vs, fs = [], []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("v "):
-                vs.append([float(t) for t in line.split()[1:4]])
-            elif line.startswith("f "):
-                idx = [int(t.split("/")[0]) - 1 for t in line.split()[1:]]
-                for k in range(1, len(idx) - 1):   # fan-triangulate polygons
-                    fs.append([idx[0], idx[k], idx[k + 1]])
-    return np.array(vs, dtype=float), np.array(fs, dtype=np.int64)
 
 
 def rotation(axis, angle):
@@ -249,28 +239,22 @@ class LegFrames:
             return 0.0
         return float(np.interp(t, s["time"], s["knee_angle"]))
 
+    def _displaced(self, name, rest, j, f=None):
+        """rest + /fields/NAME_displacement[j], from `f` or the file opened for it."""
+        if f is None:
+            with h5py.File(self.path, "r") as g:
+                return self._displaced(name, rest, j, g)
+        return rest + f["fields/%s_displacement" % name][j]
+
     def skin(self, i, f=None):
-        own = f is None
-        f = f or h5py.File(self.path, "r")
-        try:
-            return self.skin_points + f["fields/skin_displacement"][i]
-        finally:
-            if own:
-                f.close()
+        return self._displaced("skin", self.skin_points, i, f)
 
     def bones(self, i, f=None):
         if self.bone_points is None:
             return None
         t = self.skin_time[i]
         if self.has_bone_fields:
-            j = int(np.argmin(np.abs(self.bone_time - t)))
-            own = f is None
-            f = f or h5py.File(self.path, "r")
-            try:
-                return self.bone_points + f["fields/bones_displacement"][j]
-            finally:
-                if own:
-                    f.close()
+            return self._displaced("bones", self.bone_points, int(np.argmin(np.abs(self.bone_time - t))), f)
         x = self.bone_points.copy()
         r = rotation(self.knee_axis, math.radians(self.knee_angle_at(t)))
         x[self.n_upper:] = (x[self.n_upper:] - self.knee_centre) @ r.T + self.knee_centre
@@ -280,8 +264,7 @@ class LegFrames:
         """The obstacles' surfaces at frame i (None when the run has none)."""
         if self.obstacle_points is None or "fields/obstacles_displacement" not in f:
             return None
-        ds = f["fields/obstacles_displacement"]
-        return self.obstacle_points + ds[min(i, ds.shape[0] - 1)]
+        return self._displaced("obstacles", self.obstacle_points, min(i, f["fields/obstacles_displacement"].shape[0] - 1), f)
 
     def limits(self):
         """Bounding box of skin and bones over every frame (finite values)."""

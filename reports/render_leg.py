@@ -28,14 +28,18 @@ REGION_NAMES = {0: "passive tissue", 1: "front muscle", 2: "back muscle", 3: "up
 
 
 def read_obj(path):
+    """An OBJ file's vertices (V x 3) and triangles (T x 3, 0-based; polygons
+    fan-triangulated). Also used by leg_report.py."""
     vs, fs = [], []
     with open(path) as f:
         for line in f:
             if line.startswith("v "):
                 vs.append([float(t) for t in line.split()[1:4]])
             elif line.startswith("f "):
-                fs.append([int(t.split("/")[0]) - 1 for t in line.split()[1:4]])
-    return np.array(vs), np.array(fs)
+                idx = [int(t.split("/")[0]) - 1 for t in line.split()[1:]]
+                for k in range(1, len(idx) - 1):   # fan-triangulate polygons
+                    fs.append([idx[0], idx[k], idx[k + 1]])
+    return np.array(vs, dtype=float), np.array(fs, dtype=np.int64)
 
 
 def read_vtu(path):
