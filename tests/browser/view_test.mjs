@@ -2,21 +2,16 @@
 // Browser test of a run-mode page (what `tissuebench view` writes), in headless Chromium.
 //
 //   node tests/browser/view_test.mjs --page FILE.html [--shots DIR] [--chromium PATH]
-//   node tests/browser/view_test.mjs --run-dir RUN_DIR [--every N] [--shots DIR]
 //
-// --run-dir makes the page itself: viewer/tools/run_from_h5.py (RUN_DIR/leg.h5 -> run data)
-// then viewer/tools/assemble.mjs with viewer/src/page.html and viewer/dist/viewer.js (build it
-// first: npm run build in viewer/). Exit 0 only when every positive check passes and every
-// negative control is caught. See tests/browser/README.md.
+// FILE.html: a page `tissuebench view RUN_DIR --out FILE.html` wrote. Exit 0 only when every
+// positive check passes and every negative control is caught. See tests/browser/README.md.
 import { readFileSync, writeFileSync, mkdtempSync, mkdirSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join, resolve } from 'node:path';
 import { pathToFileURL } from 'node:url';
-import { execFileSync } from 'node:child_process';
 import {
-  VIEWER, launch, watchPage, decodePng, diffPixels, colourStats, Checks, sleep, parseArgs,
+  launch, watchPage, decodePng, diffPixels, colourStats, Checks, sleep, parseArgs,
 } from './lib.mjs';
-import { assemble, escapeJson } from '../../viewer/tools/assemble.mjs';
 
 const MIN_CHANGED_PIXELS = 100;   // "the canvas changed": more pixels than this differ
 const MIN_DISTINCT_COLOURS = 16;  // "not blank": at least this many (quantised) colours ...
@@ -25,7 +20,7 @@ const CONFIG_OPEN = '<script id="tissuebench-config" type="application/json">';
 
 function usage(msg) {
   if (msg) console.error(`view_test: ${msg}`);
-  console.error('usage: view_test.mjs (--page FILE.html | --run-dir RUN_DIR [--every N]) [--shots DIR] [--chromium PATH]');
+  console.error('usage: view_test.mjs --page FILE.html [--shots DIR] [--chromium PATH]');
   process.exit(2);
 }
 
@@ -35,6 +30,9 @@ function splitConfig(html) {
   const b = html.indexOf('</script>', a + CONFIG_OPEN.length);
   return { before: html.slice(0, a + CONFIG_OPEN.length), json: html.slice(a + CONFIG_OPEN.length, b), after: html.slice(b) };
 }
+
+// JSON as the page holds it: every "<" written \u003c (viewer/README.md, "The page template").
+const escapeJson = (json) => json.split('<').join('\\u003c');
 
 // The same page with zero frames and a failed status: what a run that failed at once gives.
 function zeroFramePage(html) {
@@ -63,6 +61,17 @@ async function canvasShot(page, shotsDir, name) {
   const buf = await page.screenshot({ clip: box, animations: 'allow', timeout: 20000 });
   if (shotsDir) writeFileSync(join(shotsDir, `${name}.png`), buf);
   return decodePng(buf);
+}
+
+// What the "canvas changes" and "frame advanced" checks measure, the same for the
+// positive check and its negative control: two canvas shots 1 s apart.
+async function twoShotsApart(page, shotsDir, name) {
+  const before = await hooks(page);
+  const a = await canvasShot(page, shotsDir, `${name}_a`);
+  await sleep(1000);
+  const b = await canvasShot(page, shotsDir, `${name}_b`);
+  const after = await hooks(page);
+  return { before, after, changed: diffPixels(a, b), advanced: (after.frame - before.frame + after.frames) % after.frames };
 }
 
 async function hooks(page) {
@@ -95,27 +104,16 @@ async function webglInfo(page) {
 async function main() {
   let args;
   try {
-    args = parseArgs(process.argv.slice(2), { page: 'value', 'run-dir': 'value', every: 'value', shots: 'value', chromium: 'value' });
+    args = parseArgs(process.argv.slice(2), { page: 'value', shots: 'value', chromium: 'value' });
   } catch (e) {
     usage(e.message);
   }
-  if (!args.page === !args['run-dir']) usage('give exactly one of --page and --run-dir');
+  if (!args.page) usage('give --page');
 
   const work = mkdtempSync(join(tmpdir(), 'tb-view-test-'));
   const shotsDir = args.shots ? resolve(args.shots) : null;
   if (shotsDir) mkdirSync(shotsDir, { recursive: true });
-  let pagePath = args.page ? resolve(args.page) : null;
-  if (args['run-dir']) {
-    const json = join(work, 'run.json');
-    execFileSync('/usr/bin/python3', [join(VIEWER, 'tools', 'run_from_h5.py'), args['run-dir'], json, '--every', args.every || '4'], { stdio: 'inherit' });
-    const html = assemble(
-      readFileSync(join(VIEWER, 'src', 'page.html'), 'utf8'),
-      readFileSync(join(VIEWER, 'dist', 'viewer.js'), 'utf8'),
-      '{"mode":"run","run":' + readFileSync(json, 'utf8') + '}',
-    );
-    pagePath = join(work, 'page.html');
-    writeFileSync(pagePath, html);
-  }
+  const pagePath = resolve(args.page);
   const html = readFileSync(pagePath, 'utf8');
   const zero = zeroFramePage(html);
   const zeroPath = join(work, 'zero_frames.html');
@@ -156,15 +154,10 @@ async function main() {
 
     // From the first frame (the scrubber, as a user would): runs move most early on.
     await page.locator('#scrubber').fill('0');
-    const a = await hooks(page);
-    const shotA = await canvasShot(page, shotsDir, 'playing_a');
-    await sleep(1000);
-    const shotB = await canvasShot(page, shotsDir, 'playing_b');
-    const b = await hooks(page);
-    const changed = diffPixels(shotA, shotB);
-    checks.record('canvas changes while playing (1 s apart)', changed > MIN_CHANGED_PIXELS, `${changed} pixels differ (need > ${MIN_CHANGED_PIXELS})`);
-    const advanced = (b.frame - a.frame + b.frames) % b.frames;
-    checks.record('frame index advanced', advanced > 0, `frame ${a.frame} -> ${b.frame} of ${b.frames} (t ${a.t?.toFixed(2)} -> ${b.t?.toFixed(2)} s)`);
+    const play = await twoShotsApart(page, shotsDir, 'playing');
+    const [a, b] = [play.before, play.after];
+    checks.record('canvas changes while playing (1 s apart)', play.changed > MIN_CHANGED_PIXELS, `${play.changed} pixels differ (need > ${MIN_CHANGED_PIXELS})`);
+    checks.record('frame index advanced', play.advanced > 0, `frame ${a.frame} -> ${b.frame} of ${b.frames} (t ${a.t?.toFixed(2)} -> ${b.t?.toFixed(2)} s)`);
 
     const ec = errorCheck(watch, await hooks(page));
     checks.record('no console error, page error or tissuebench.errors', ec.pass, ec.detail);
@@ -173,15 +166,11 @@ async function main() {
     await page.click('#play');
     await page.waitForFunction(() => window.tissuebench.playing === false, null, { timeout: 5000 }).catch(() => {});
     await sleep(300);
-    const p0 = await hooks(page);
-    const pA = await canvasShot(page, shotsDir, 'paused_a');
-    await sleep(1000);
-    const pB = await canvasShot(page, shotsDir, 'paused_b');
-    const p1 = await hooks(page);
-    const pChanged = diffPixels(pA, pB);
-    checks.record('paused (clicked pause): canvas changes', pChanged > MIN_CHANGED_PIXELS,
-      `${pChanged} pixels differ; playing=${p1.playing}; frame ${p0.frame} -> ${p1.frame}`, { negative: true });
-    checks.record('paused (clicked pause): frame index advanced', (p1.frame - p0.frame + p1.frames) % p1.frames > 0,
+    const paused = await twoShotsApart(page, shotsDir, 'paused');
+    const [p0, p1] = [paused.before, paused.after];
+    checks.record('paused (clicked pause): canvas changes', paused.changed > MIN_CHANGED_PIXELS,
+      `${paused.changed} pixels differ; playing=${p1.playing}; frame ${p0.frame} -> ${p1.frame}`, { negative: true });
+    checks.record('paused (clicked pause): frame index advanced', paused.advanced > 0,
       `frame ${p0.frame} -> ${p1.frame}`, { negative: true });
     await page.close();
 
