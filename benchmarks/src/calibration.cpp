@@ -6,6 +6,7 @@
 #include "bench/msd_runner.hpp"
 #include "bench/shared_io.hpp"
 #include "msd/io/atomic_file.hpp"
+#include "msd/io/input_file.hpp"
 
 #include <unsupported/Eigen/NonLinearOptimization>
 #include <yaml-cpp/yaml.h>
@@ -221,17 +222,22 @@ CalibrationResult calibrate(const std::string& material, const std::vector<std::
                             const std::function<void(const std::string&)>& log, int max_evaluations,
                             double volume_weight, int max_damping_evaluations) {
   if (!(volume_weight >= 0.0)) throw msd::Error("calibration: the volume weight must be >= 0");
+  {  // the material first: an unknown name is the user's, not a shipped spec's
+    const YAML::Node lib = load_yaml_file(TISSUEBENCH_MATERIALS_FILE, "materials file");
+    if (!lib[material]) {
+      std::string names;
+      for (const auto& kv : lib) names += (names.empty() ? "" : ", ") + kv.first.Scalar();
+      throw msd::Error("--material: no material '" + material + "' in " + std::string(TISSUEBENCH_MATERIALS_FILE) +
+                       " (known: " + names + ")");
+    }
+  }
   CalibrationResult res;
   res.material = material;
   res.volume_weight = volume_weight;
   fs::create_directories(out_dir);
   std::vector<Target> targets;
   for (const auto& file : spec_files) {
-    std::ifstream in(file);
-    if (!in) throw msd::Error(file + ": cannot open calibration spec");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    const std::string text = std::regex_replace(ss.str(), std::regex("library: *[A-Za-z_]+"), "library: " + material);
+    const std::string text = std::regex_replace(msd::read_input_file(file, "calibration spec"), std::regex("library: *[A-Za-z_]+"), "library: " + material);
     Target tg;
     tg.index = targets.size();
     tg.spec = parse_spec(text, file);
@@ -400,28 +406,27 @@ void write_calibration(const CalibrationResult& r, const std::string& path) {
 }
 
 CalibrationParameters read_calibration(const std::string& path, std::string* material) {
-  YAML::Node n;
-  try {
-    n = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw msd::Error(path + ": cannot read the calibration file: " + e.msg);
-  }
-  if (material) *material = n["material"] ? n["material"].as<std::string>() : "";
-  const YAML::Node p = n["parameters"];
-  if (!p) throw msd::Error(path + ": no 'parameters' in the calibration file");
+  // Every field is known (an unknown one is a typo or a file of another
+  // program): the fitted parameters are checked for range, the provenance
+  // sections only for their presence as written by write_calibration.
+  const tbio::Fields f(load_yaml_file(path, "calibration file"), "", path);
+  f.only({"material", "parameters", "material_damping_time", "starting_parameters", "volume_weight", "objective", "optimiser",
+          "damping_stage", "specs", "reference", "created"});
+  if (material) *material = f.text_or("material", "");
+  const tbio::Fields p = f.section("parameters");
+  p.only({"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time"});
   CalibrationParameters c;
-  try {
-    c.stiffness_scale = p["stiffness_scale"].as<double>();
-    c.repulsion_factor = p["repulsion_factor"].as<double>();
-    c.volume_factor = p["volume_factor"].as<double>();
-    if (p["damping_time"]) c.damping_time = p["damping_time"].as<double>();
-  } catch (const YAML::Exception& e) {
-    throw msd::Error(path + ": parameters.stiffness_scale, repulsion_factor and volume_factor are required: " +
-                     e.msg);
-  }
-  if (!(c.stiffness_scale > 0.0) || c.repulsion_factor < 0.0 || c.volume_factor < 0.0 ||
-      (c.damping_time && !(*c.damping_time >= 0.0)))
-    throw msd::Error(path + ": calibrated parameters out of range");
+  c.stiffness_scale = p.positive("stiffness_scale");
+  auto non_negative = [&](const std::string& key) {
+    const double v = p.number(key);  // required, finite
+    if (v < 0.0) throw msd::Error(p.where(key) + "must be a number >= 0");
+    return v;
+  };
+  c.repulsion_factor = non_negative("repulsion_factor");
+  c.volume_factor = non_negative("volume_factor");
+  if (p.has("damping_time")) c.damping_time = p.non_negative_or("damping_time", 0.0);
+  if (auto s = f.optional_section("starting_parameters"))
+    s->only({"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time"});
   return c;
 }
 

@@ -4,6 +4,7 @@
 
 #include "bench/shared_io.hpp"
 #include "msd/core/types.hpp"
+#include "msd/io/input_file.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -63,12 +64,13 @@ GeometrySpec parse_geometry(const Fields& f, const std::string& source) {
 }
 
 MeshSpec parse_mesh(const Fields& f) {
-  f.only({"spacing", "rule", "origin", "max_cubes"});
+  f.only({"spacing", "rule", "origin", "max_cubes", "memory_limit_gb"});
   MeshSpec m;
   m.spacing = number(f, "mesh.spacing");
   m.rule = choice(f, "mesh.rule");
   if (f.has("origin")) m.origin = vector3(f, "mesh.origin");
   m.max_cubes = integer(f, "mesh.max_cubes");
+  if (f.has("memory_limit_gb")) m.memory_limit_gb = number(f, "mesh.memory_limit_gb");
   return m;
 }
 
@@ -76,12 +78,7 @@ MeshSpec parse_mesh(const Fields& f) {
 YAML::Node library_material(const Fields& f) {
   const std::string name = f.text("library");
   const std::string file = TISSUEBENCH_MATERIALS_FILE;
-  YAML::Node lib;
-  try {
-    lib = YAML::LoadFile(file);
-  } catch (const YAML::Exception& e) {
-    throw msd::Error(file + ": cannot read the materials file: " + e.msg);
-  }
+  const YAML::Node lib = load_yaml_file(file, "materials file");
   if (!lib[name]) {
     std::string names;
     for (const auto& kv : lib) names += (names.empty() ? "" : ", ") + kv.first.Scalar();
@@ -309,13 +306,7 @@ LoadingSpec parse_loading(const Fields& f) {
 }  // namespace
 
 Spec parse_spec(const std::string& text, const std::string& source) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw msd::Error(source + ":" + std::to_string(e.mark.line + 1) + ":" +
-                     std::to_string(e.mark.column + 1) + ": YAML syntax error: " + e.msg);
-  }
+  const YAML::Node root = tbio::parse_yaml(text, source);
   if (!root || root.IsNull()) throw msd::Error(source + ": the spec is empty");
   const Fields f(root, "", source);
   f.only({"name", "description", "geometry", "mesh", "material", "msd", "fem", "loading", "output"});
@@ -348,17 +339,22 @@ Spec parse_spec(const std::string& text, const std::string& source) {
     apply_calibration(s, file.string(), f.section("msd").where("calibration"));
   }
   if (s.msd && !s.mesh) throw msd::Error(f.where("msd") + "the msd solver needs a 'mesh' section");
+  // A time step against the loading's time scale: at least ten steps over the
+  // run (dt = 1000 s on a 1 s loading would take one step and look complete).
+  const double end = s.loading.type == Loading::Vibration ? s.loading.release + s.loading.duration
+                     : s.loading.path.empty()             ? 0.0
+                                                          : s.loading.path.back().first;
+  if (s.msd && s.msd->integrator != "cvode" && end > 0.0 && s.msd->dt > end / 10.0)
+    throw msd::Error(f.section("msd").where("dt") + "dt = " + tbio::json_number(s.msd->dt) +
+                     " s leaves fewer than ten steps over the loading, which lasts " + tbio::json_number(end) +
+                     " s: use at most " + tbio::json_number(end / 10.0) + " s");
   if (s.msd && s.msd->constants == "physical" && !s.material.youngs_modulus)
     throw msd::Error(f.where("material") + "youngs_modulus is required for 'msd.constants: physical'");
   return s;
 }
 
 Spec load_spec(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw msd::Error(path + ": cannot open spec file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_spec(ss.str(), path);
+  return parse_spec(msd::read_input_file(path, "spec file"), path);
 }
 
 std::vector<std::pair<double, double>> preload_path(const LoadingSpec& l) {

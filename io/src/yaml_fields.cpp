@@ -1,8 +1,10 @@
 #include "tbio/yaml_fields.hpp"
 
 #include "msd/core/types.hpp"
+#include "msd/io/input_file.hpp"
 
 #include <cmath>
+#include <map>
 
 namespace tbio {
 
@@ -17,13 +19,38 @@ std::string mark(const std::string& file, const YAML::Node& n) {
 }  // namespace
 
 YAML::Node load_yaml_file(const std::string& path, const std::string& what) {
+  return parse_yaml(msd::read_input_file(path, what), path);
+}
+
+YAML::Node parse_yaml(const std::string& text, const std::string& file) {
+  YAML::Node root;
   try {
-    return YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw msd::Error(path + ": cannot read the " + what);
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
-    throw msd::Error(path + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
+    throw msd::Error(file + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
                      ": YAML syntax error: " + e.msg);
+  }
+  refuse_duplicate_keys(root, file);
+  return root;
+}
+
+void refuse_duplicate_keys(const YAML::Node& node, const std::string& file) {
+  if (node.IsSequence()) {
+    for (const auto& item : node) refuse_duplicate_keys(item, file);
+    return;
+  }
+  if (!node.IsMap()) return;
+  std::map<std::string, int> first_line;  // key -> 1-based line
+  for (const auto& kv : node) {
+    // Keys are compared as written (scalars); a collection as a key is
+    // compared by its text.
+    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : YAML::Dump(kv.first);
+    const int line = kv.first.Mark().is_null() ? 0 : kv.first.Mark().line + 1;
+    const auto [it, fresh] = first_line.emplace(key, line);
+    if (!fresh)
+      throw msd::Error(mark(file, kv.first) + "duplicate key '" + key + "' (first given at line " +
+                       std::to_string(it->second) + ")");
+    refuse_duplicate_keys(kv.second, file);
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include "tbio/series_tools.hpp"
 #include "tbio/yaml_fields.hpp"
+#include "msd/io/input_file.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -90,13 +91,6 @@ fs::path relative_to(const std::string& scene_file, const std::string& p) {
   return q.is_absolute() ? q : fs::path(scene_file).parent_path() / q;
 }
 
-std::string file_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // name, geometry, time stepping, gravity, terms, threshold.
 void read_run(const Fields& f, const std::string& path, LegScene& s) {
   s.name = f.text_or("name", fs::path(path).stem().string());
@@ -112,6 +106,10 @@ void read_run(const Fields& f, const std::string& path, LegScene& s) {
   s.duration = number(f, "duration");
   s.dt = number(f, "dt");
   s.output_interval = number(f, "output_interval");
+  if (s.dt > s.duration / 10.0)
+    throw msd::Error(f.where("dt") + "dt = " + tbio::json_number(s.dt) + " s leaves fewer than ten steps over the " +
+                     "duration (" + tbio::json_number(s.duration) + " s): use at most " +
+                     tbio::json_number(s.duration / 10.0) + " s");
   const double steps_per_frame = s.output_interval / s.dt;
   if (!(s.output_interval > 0.0) || std::abs(steps_per_frame - std::round(steps_per_frame)) > 1e-6 * steps_per_frame ||
       std::round(steps_per_frame) < 1.0)
@@ -311,7 +309,8 @@ void read_variants(const Fields& f, const std::string& path, LegScene& s) {
 }  // namespace
 
 LegScene read_leg_scene(const std::string& path) {
-  const YAML::Node root = tbio::load_yaml_file(path, "scene file");
+  const std::string text = msd::read_input_file(path, "scene file");
+  const YAML::Node root = tbio::parse_yaml(text, path);
   if (!root || !root.IsMap()) throw msd::Error(path + ": the scene must be a YAML mapping");
   const Fields f(root, "", path);
   f.only({"name", "description", "geometry", "mesh_pull", "duration", "dt", "output_interval", "gravity", "terms",
@@ -319,7 +318,7 @@ LegScene read_leg_scene(const std::string& path) {
           "outputs"});
   LegScene s;
   s.file = path;
-  s.text = file_text(path);
+  s.text = text;
   read_run(f, path, s);
   const Fields mats = f.section("materials");
   mats.only({"passive", "muscle"});

@@ -156,3 +156,29 @@ TEST(Calibration, WithoutADampingFitTheMaterialsDampingTimeStays) {
     EXPECT_NE(std::string(e.what()).find("bad.yaml"), std::string::npos) << e.what();
   }
 }
+
+TEST(Calibration, UnknownFieldsAndMissingFactorsAreRefusedByName) {
+  testing_support::TempDir dir("cal");
+  bench::write_calibration(result(), dir.file("c.yaml"));
+  EXPECT_NO_THROW(bench::read_calibration(dir.file("c.yaml")));  // what write_calibration writes is known
+  auto error_of = [&](const std::string& text) {
+    std::ofstream(dir.file("x.yaml")) << text;
+    try {
+      bench::read_calibration(dir.file("x.yaml"));
+    } catch (const msd::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string typo = error_of("material: non_muscular_tissue\nparameters: {stiffness_scale: 1, "
+                                    "repulsion_factor: 0, volume_factor: 0, dampin_time: 0.1}\n");
+  EXPECT_NE(typo.find("x.yaml:2:"), std::string::npos) << typo;
+  EXPECT_NE(typo.find("parameters.dampin_time: unknown field"), std::string::npos) << typo;
+  const std::string top = error_of("material: non_muscular_tissue\nparameter: {stiffness_scale: 1}\n");
+  EXPECT_NE(top.find("parameter: unknown field"), std::string::npos) << top;
+  const std::string missing = error_of("parameters: {stiffness_scale: 1, repulsion_factor: 0}\n");
+  EXPECT_NE(missing.find("parameters.volume_factor: required field is missing"), std::string::npos) << missing;
+  const std::string twice = error_of("parameters: {stiffness_scale: 1, repulsion_factor: 0, volume_factor: 0, "
+                                     "volume_factor: -3}\n");
+  EXPECT_NE(twice.find("duplicate key 'volume_factor'"), std::string::npos) << twice;
+}

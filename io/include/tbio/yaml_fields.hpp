@@ -15,10 +15,21 @@
 
 namespace tbio {
 
-/// Loads a YAML file. Throws msd::Error "PATH: cannot read the WHAT" for a
-/// missing or unreadable file, "PATH:LINE:COL: YAML syntax error: ..." for bad
-/// YAML.
+/// Loads a YAML file (at most msd::kMaxTextInputBytes, a regular file) and
+/// parses it with parse_yaml. Throws msd::Error "PATH: cannot read the WHAT"
+/// for a missing or unreadable file, and what parse_yaml throws.
 YAML::Node load_yaml_file(const std::string& path, const std::string& what);
+
+/// Parses YAML text read from `file` (named in messages). Throws msd::Error
+/// "FILE:LINE:COL: YAML syntax error: ..." for bad YAML and
+/// "FILE:LINE:COL: duplicate key 'K' (first given at line L)" when a mapping,
+/// at any depth, repeats a key: YAML forbids it, and yaml-cpp would silently
+/// read the first one, so an invalid second value would never be checked.
+YAML::Node parse_yaml(const std::string& text, const std::string& file);
+
+/// Throws the duplicate-key error above for the first mapping under `node`
+/// (itself included) that repeats a key.
+void refuse_duplicate_keys(const YAML::Node& node, const std::string& file);
 
 /// A YAML mapping with the dotted path it was found at, for messages.
 class Fields {

@@ -1,6 +1,7 @@
 #include "msd/control/activation_script.hpp"
 
 #include "msd/core/types.hpp"
+#include "msd/io/input_file.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -103,11 +104,7 @@ ActivationScript parse_activation_script(const std::string& text, const std::str
 }
 
 ActivationScript read_activation_script(const std::string& path, const std::set<std::string>& known_muscles) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot read the activation script");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_activation_script(text.str(), path, known_muscles);
+  return parse_activation_script(read_input_file(path, "activation script"), path, known_muscles);
 }
 
 }  // namespace msd
