@@ -10,7 +10,7 @@ TB_PACKAGES=(
   libeigen3-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   libhdf5-openmpi-dev
   libdeal.ii-dev libsundials-dev openmpi-bin libopenblas0-serial
-  libgtest-dev libbenchmark-dev libboost-dev
+  libgtest-dev libbenchmark-dev libboost-dev libcgal-dev
   python3 python3-numpy python3-h5py python3-matplotlib python3-jinja2 python3-yaml
   chromium
 )

@@ -1,6 +1,7 @@
 #include "leg/limb_input.hpp"
 
 #include "tbio/json.hpp"
+#include "tbio/surface_check.hpp"
 #include "tbio/yaml_fields.hpp"
 
 #include "msd/io/vtu.hpp"
@@ -24,6 +25,27 @@ const std::map<std::string, int> kRegions{{"upper_bone", msd::kUpperBone},
                                           {"lower_bone", msd::kLowerBone},
                                           {"front_muscle", msd::kFrontMuscle},
                                           {"back_muscle", msd::kBackMuscle}};
+
+// Surfaces that cross themselves, an inner surface that crosses the skin, and
+// two bones or two muscles that cross each other are refused with the two
+// triangles named (a bone against a muscle is allowed: erosion decides, as in
+// msd::validate_limb).
+void refuse_crossing_surfaces(const msd::LimbSurfaces& s) {
+  std::vector<tbio::NamedSurface> list{{&s.skin, s.source.at(msd::kPassiveTissue)}};
+  std::vector<int> region{msd::kPassiveTissue};
+  msd::validate_closed_surface(s.skin, list[0].name);
+  for (const auto& [r, m] : s.inner) {
+    list.push_back({&m, s.source.at(r)});
+    region.push_back(r);
+    msd::validate_closed_surface(m, list.back().name);
+  }
+  std::vector<std::pair<int, int>> pairs;
+  for (int a = 0; a < static_cast<int>(list.size()); ++a)
+    for (int b = a + 1; b < static_cast<int>(list.size()); ++b)
+      if (a == 0 || msd::is_bone(region[static_cast<size_t>(a)]) == msd::is_bone(region[static_cast<size_t>(b)]))
+        pairs.emplace_back(a, b);
+  tbio::refuse_intersections(list, pairs);
+}
 
 msd::VtuGrid surface_grid(const msd::TriangleMesh& m, const msd::Embedding& e) {
   msd::VtuGrid g;
@@ -67,11 +89,17 @@ LimbInput read_limb_input(const std::string& scene_file) {
       surfaces.source[region] = file_of(key);
       surfaces.inner[region] = msd::read_surface(surfaces.source[region]);
     }
+  refuse_crossing_surfaces(surfaces);
   const Fields mesh = f.section("mesh");
-  mesh.only({"spacing", "rotation", "rule", "origin", "pull", "pull_min_quality"});
+  mesh.only({"spacing", "rotation", "rule", "origin", "pull", "pull_min_quality", "max_cubes", "memory_limit_gb"});
   msd::LimbMeshOptions& o = in.options;
   o.spacing = mesh.number("spacing");
   if (!(o.spacing > 0.0)) throw msd::Error(mesh.where("spacing") + "must be a positive length (m)");
+  o.max_cubes = mesh.integer_or("max_cubes", o.max_cubes);
+  if (o.max_cubes < 1) throw msd::Error(mesh.where("max_cubes") + "must be a positive number of cubes");
+  if (mesh.has("memory_limit_gb")) o.memory.bytes = 1e9 * mesh.positive("memory_limit_gb");
+  o.memory.how_to_raise = "mesh.memory_limit_gb in " + scene_file;
+  o.memory.context = mesh.where("spacing");
   if (mesh.has("rotation")) {
     const auto r = mesh.number_list("rotation");
     if (r.size() != 3) throw msd::Error(mesh.where("rotation") + "needs three angles in degrees [x, y, z]");

@@ -1,6 +1,7 @@
 // STL and PLY input for user-supplied surfaces (a scanned limb, a segmented
 // bone). OBJ lives beside the mesh type in triangle_mesh.cpp.
 #include "msd/geometry/triangle_mesh.hpp"
+#include "msd/io/input_file.hpp"
 
 #include <algorithm>
 #include <array>
@@ -18,11 +19,12 @@ namespace {
 
 std::string at_line(const std::string& path, int line) { return path + ":" + std::to_string(line) + ": "; }
 
-TriangleMesh from_lists(const std::vector<Vec3>& verts, std::vector<Tri> tris) {
+TriangleMesh from_lists(const std::vector<Vec3>& verts, std::vector<Tri> tris, std::vector<int> lines = {}) {
   TriangleMesh m;
   m.vertices.resize(3, static_cast<Eigen::Index>(verts.size()));
   for (size_t i = 0; i < verts.size(); ++i) m.vertices.col(static_cast<Eigen::Index>(i)) = verts[i];
   m.triangles = std::move(tris);
+  m.triangle_line = std::move(lines);
   return m;
 }
 
@@ -44,10 +46,8 @@ class Welder {
 }  // namespace
 
 TriangleMesh read_stl(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": cannot open STL file");
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
+  std::istringstream in(read_input_file(path, "STL file", kMaxSurfaceInputBytes), std::ios::binary);
+  const auto size = static_cast<std::uint64_t>(in.str().size());
   char header[84] = {};
   in.read(header, 84);
   const bool have_header = in.gcount() == 84;
@@ -55,17 +55,18 @@ TriangleMesh read_stl(const std::string& path) {
   if (have_header) std::memcpy(&count, header + 80, 4);
   Welder weld;
   std::vector<Tri> tris;
-  if (have_header && !ec && size == 84 + 50ull * count) {  // binary
+  std::vector<int> lines;  // ASCII: the line of each facet
+  if (have_header && size == 84 + 50ull * count) {  // binary
     for (std::uint32_t t = 0; t < count; ++t) {
       char rec[50];
       in.read(rec, 50);
-      if (in.gcount() != 50) throw Error(path + ": binary STL ends inside triangle " + std::to_string(t));
+      if (in.gcount() != 50) throw Error(path + ": binary STL ends inside triangle " + std::to_string(t + 1));
       Tri tri;
       for (int k = 0; k < 3; ++k) {
         float xyz[3];
         std::memcpy(xyz, rec + 12 + 12 * k, 12);
         const Vec3 p(xyz[0], xyz[1], xyz[2]);
-        if (!p.allFinite()) throw Error(path + ": binary STL triangle " + std::to_string(t) + " has a non-finite vertex");
+        if (!p.allFinite()) throw Error(path + ": binary STL triangle " + std::to_string(t + 1) + " has a non-finite vertex");
         tri[static_cast<size_t>(k)] = weld.add(p);
       }
       tris.push_back(tri);
@@ -74,7 +75,7 @@ TriangleMesh read_stl(const std::string& path) {
     in.clear();
     in.seekg(0);
     std::string line, tag;
-    int lineno = 0, corners = 0;
+    int lineno = 0, corners = 0, facet_line = 0;
     Tri tri{};
     bool solid = false;
     while (std::getline(in, line)) {
@@ -86,6 +87,7 @@ TriangleMesh read_stl(const std::string& path) {
         solid = true;
       } else if (tag == "facet") {
         corners = 0;
+        facet_line = lineno;
       } else if (tag == "vertex") {
         Vec3 p;
         if (!(ls >> p.x() >> p.y() >> p.z())) throw Error(at_line(path, lineno) + "vertex needs three numbers");
@@ -95,6 +97,7 @@ TriangleMesh read_stl(const std::string& path) {
       } else if (tag == "endfacet") {
         if (corners != 3) throw Error(at_line(path, lineno) + "facet has " + std::to_string(corners) + " vertices, not 3");
         tris.push_back(tri);
+        lines.push_back(facet_line);
       } else if (!solid) {
         throw Error(path + ": not an STL file (neither binary of the size its header states nor ASCII starting with 'solid')");
       }
@@ -102,7 +105,7 @@ TriangleMesh read_stl(const std::string& path) {
     if (!solid) throw Error(path + ": not an STL file (empty)");
   }
   if (tris.empty()) throw Error(path + ": STL file has no triangles");
-  return from_lists(weld.vertices(), std::move(tris));
+  return from_lists(weld.vertices(), std::move(tris), std::move(lines));
 }
 
 namespace {
@@ -169,8 +172,7 @@ class PlyReader {
 }  // namespace
 
 TriangleMesh read_ply(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": cannot open PLY file");
+  std::istringstream in(read_input_file(path, "PLY file", kMaxSurfaceInputBytes), std::ios::binary);
   std::string line;
   int lineno = 0, format = -1;
   std::vector<PlyElement> elements;
@@ -216,9 +218,12 @@ TriangleMesh read_ply(const std::string& path) {
     }
   }
   if (format < 0) throw Error(path + ": PLY header has no 'format' line");
-  PlyReader r(in, path, format);
+  // ASCII: one element per line, so a count in the header that does not match
+  // the file is found at the line where it shows, not later as a bad index.
+  int ascii_line = lineno;
   std::vector<Vec3> verts;
   std::vector<Tri> tris;
+  std::vector<int> tri_lines;
   bool have_vertices = false, have_faces = false;
   for (const PlyElement& e : elements) {
     const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
@@ -235,14 +240,30 @@ TriangleMesh read_ply(const std::string& path) {
     have_vertices |= is_vertex;
     have_faces |= is_face;
     for (long i = 0; i < e.count; ++i) {
-      const std::string what = e.name + " " + std::to_string(i);
+      const std::string what = e.name + " " + std::to_string(i + 1) + " of " + std::to_string(e.count);
+      std::istringstream line_in;
+      if (format == 0) {
+        std::string text;
+        do {
+          if (!std::getline(in, text))
+            throw Error(path + ": the file ends after line " + std::to_string(ascii_line) + ", before " + what +
+                        " that the header declares: the header's element counts do not match the file");
+          ++ascii_line;
+        } while (text.find_first_not_of(" \t\r") == std::string::npos);
+        line_in.str(text);
+      }
+      PlyReader r(format == 0 ? static_cast<std::istream&>(line_in) : in,
+                  format == 0 ? path + ":" + std::to_string(ascii_line) : path, format);
       Vec3 p = Vec3::Zero();
       std::vector<int> poly;
       for (size_t k = 0; k < e.props.size(); ++k) {
         const PlyProperty& pr = e.props[k];
         if (pr.list) {
           const double n = r.read(pr.count_type, what);
-          if (n < 0 || n != std::floor(n)) throw Error(path + ": " + what + ": bad list length");
+          if (n < 0 || n != std::floor(n))
+            throw Error((format == 0 ? at_line(path, ascii_line) : path + ": ") + what + ": bad list length " +
+                        std::to_string(n) + " (if this is a line of another element, the header's element counts do "
+                        "not match the file)");
           for (long j = 0; j < static_cast<long>(n); ++j) {
             const double v = r.read(pr.type, what);
             if (static_cast<int>(k) == iface) poly.push_back(static_cast<int>(v));
@@ -254,24 +275,44 @@ TriangleMesh read_ply(const std::string& path) {
           if (static_cast<int>(k) == iz) p.z() = v;
         }
       }
+      std::string extra;
+      if (format == 0 && (line_in >> extra))
+        throw Error(at_line(path, ascii_line) + what + " has more values than its properties in the header ('" + extra +
+                    "' left over): the header's element counts or properties do not match the file");
       if (is_vertex) {
         if (!p.allFinite()) throw Error(path + ": " + what + " has a non-finite coordinate");
         verts.push_back(p);
       }
       if (is_face) {
         if (poly.size() < 3) throw Error(path + ": " + what + " has fewer than three vertices");
-        for (size_t j = 1; j + 1 < poly.size(); ++j) tris.push_back({poly[0], poly[j], poly[j + 1]});
+        for (size_t j = 1; j + 1 < poly.size(); ++j) {
+          tris.push_back({poly[0], poly[j], poly[j + 1]});
+          tri_lines.push_back(format == 0 ? ascii_line : 0);
+        }
       }
     }
+  }
+  if (format == 0) {
+    std::string text;
+    while (std::getline(in, text)) {
+      ++ascii_line;
+      if (text.find_first_not_of(" \t\r") != std::string::npos)
+        throw Error(at_line(path, ascii_line) + "data after the last element the header declares: the header's element "
+                    "counts do not match the file");
+    }
+  } else if (in.peek() != std::char_traits<char>::eof()) {
+    throw Error(path + ": data after the last element the header declares: the header's element counts or property "
+                "types do not match the file");
   }
   if (!have_vertices || verts.empty()) throw Error(path + ": PLY file has no vertices");
   if (!have_faces || tris.empty()) throw Error(path + ": PLY file has no faces");
   for (size_t t = 0; t < tris.size(); ++t)
     for (int k : tris[t])
       if (k < 0 || k >= static_cast<int>(verts.size()))
-        throw Error(path + ": PLY face refers to vertex " + std::to_string(k) + " but the file has " +
-                    std::to_string(verts.size()));
-  return from_lists(verts, std::move(tris));
+        throw Error((tri_lines[t] > 0 ? at_line(path, tri_lines[t]) : path + ": ") + "PLY face refers to vertex " +
+                    std::to_string(k) + " (0-based, as PLY counts) but the file has " + std::to_string(verts.size()) +
+                    " vertices (0 to " + std::to_string(verts.size() - 1) + ")");
+  return from_lists(verts, std::move(tris), std::move(tri_lines));
 }
 
 TriangleMesh read_surface(const std::string& path) {

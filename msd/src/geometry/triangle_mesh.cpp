@@ -1,4 +1,5 @@
 #include "msd/geometry/triangle_mesh.hpp"
+#include "msd/io/input_file.hpp"
 
 #include "msd/io/atomic_file.hpp"
 
@@ -87,11 +88,16 @@ std::string where(const std::string& path, int line) {
   return path + ":" + std::to_string(line) + ": ";
 }
 
+std::string point_text(const Vec3& p) {
+  std::ostringstream s;
+  s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return s.str();
+}
+
 }  // namespace
 
 TriangleMesh read_obj(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot open OBJ file");
+  std::istringstream in(read_input_file(path, "OBJ file", kMaxSurfaceInputBytes));
   TriangleMesh m;
   std::vector<Vec3> verts;
   std::string line;
@@ -127,7 +133,10 @@ TriangleMesh read_obj(const std::string& path) {
         idx.push_back(k - 1);
       }
       if (idx.size() < 3) throw Error(where(path, lineno) + "face needs at least three vertices");
-      for (size_t i = 1; i + 1 < idx.size(); ++i) m.triangles.push_back({idx[0], idx[i], idx[i + 1]});
+      for (size_t i = 1; i + 1 < idx.size(); ++i) {
+        m.triangles.push_back({idx[0], idx[i], idx[i + 1]});
+        m.triangle_line.push_back(lineno);
+      }
     }
   }
   if (verts.empty()) throw Error(path + ": OBJ file has no vertices");
@@ -170,24 +179,32 @@ Points vertex_normals(const TriangleMesh& mesh) {
   return n;
 }
 
+std::string triangle_where(const TriangleMesh& mesh, const std::string& name, int t) {
+  const size_t i = static_cast<size_t>(t);
+  const int line = i < mesh.triangle_line.size() ? mesh.triangle_line[i] : 0;
+  return name + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": triangle " + std::to_string(t + 1);
+}
+
+// Messages count vertices and triangles from 1, as OBJ does (PLY counts from
+// 0 in its own records; the reading order is the same).
 void validate_closed_surface(const TriangleMesh& mesh, const std::string& name) {
   const int nv = mesh.num_vertices();
   if (nv == 0 || mesh.triangles.empty()) throw Error(name + ": the surface is empty");
   if (!mesh.vertices.allFinite()) throw Error(name + ": a vertex coordinate is not finite");
   const Aabb box = bounding_box(mesh);
   const double scale = (box.hi - box.lo).norm();
+  auto at = [&](size_t t) { return triangle_where(mesh, name, static_cast<int>(t)); };
+  auto vertex = [](int v) { return "vertex " + std::to_string(v + 1); };
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const Tri& tri = mesh.triangles[t];
     for (int k = 0; k < 3; ++k)
       if (tri[k] < 0 || tri[k] >= nv)
-        throw Error(name + ": triangle " + std::to_string(t) + " refers to vertex " +
-                    std::to_string(tri[k]) + " (the surface has " + std::to_string(nv) + ")");
-    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2])
-      throw Error(name + ": triangle " + std::to_string(t) + " repeats a vertex");
+        throw Error(at(t) + " refers to " + vertex(tri[k]) + " (the surface has " + std::to_string(nv) +
+                    " vertices, counted from 1)");
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) throw Error(at(t) + " repeats a vertex");
     const Vec3 a = mesh.vertices.col(tri[0]), b = mesh.vertices.col(tri[1]),
                c = mesh.vertices.col(tri[2]);
-    if ((b - a).cross(c - a).norm() <= 1e-14 * scale * scale)
-      throw Error(name + ": triangle " + std::to_string(t) + " is degenerate (zero area)");
+    if ((b - a).cross(c - a).norm() <= 1e-14 * scale * scale) throw Error(at(t) + " is degenerate (zero area)");
   }
   // Directed edges: each must appear exactly once, and its reverse exactly once.
   std::map<std::pair<int, int>, int> directed;
@@ -200,20 +217,18 @@ void validate_closed_surface(const TriangleMesh& mesh, const std::string& name) 
         // Same directed edge twice: either three or more triangles meet here, or
         // two neighbours disagree on orientation.
         const auto rev = directed.find({e.second, e.first});
-        const bool many = rev != directed.end();
-        throw Error(name + (many ? ": edge (" : ": inconsistent orientation at edge (") +
-                    std::to_string(e.first) + ", " + std::to_string(e.second) + ") " +
-                    (many ? "is shared by more than two triangles (non-manifold)"
-                          : "between triangles " + std::to_string(it->second) + " and " +
-                                std::to_string(t) + " (they list it in the same direction)"));
+        const std::string edge = "the edge from " + vertex(e.first) + " to " + vertex(e.second);
+        if (rev != directed.end())
+          throw Error(at(t) + ": " + edge + " is shared by more than two triangles (non-manifold)");
+        throw Error(at(t) + ": inconsistent orientation: " + edge + " is listed in the same direction by " +
+                    at(static_cast<size_t>(it->second)));
       }
     }
   }
   for (const auto& [e, t] : directed) {
     if (!directed.count({e.second, e.first}))
-      throw Error(name + ": the surface is open: edge (" + std::to_string(e.first) + ", " +
-                  std::to_string(e.second) + ") of triangle " + std::to_string(t) +
-                  " has no neighbour");
+      throw Error(at(static_cast<size_t>(t)) + ": the surface is open: its edge from " + vertex(e.first) + " to " +
+                  vertex(e.second) + " has no neighbour");
   }
   // Vertex manifoldness: the triangles around each vertex form one cycle.
   std::vector<std::vector<std::pair<int, int>>> fan(static_cast<size_t>(nv));
@@ -230,7 +245,7 @@ void validate_closed_surface(const TriangleMesh& mesh, const std::string& name) 
       ++steps;
     } while (cur != f.front().first && steps <= static_cast<int>(f.size()));
     if (steps != static_cast<int>(f.size()))
-      throw Error(name + ": vertex " + std::to_string(v) +
+      throw Error(name + ": " + vertex(v) + " at " + point_text(mesh.vertices.col(v)) +
                   " is non-manifold (its triangles form more than one fan)");
   }
   const double vol = enclosed_volume(mesh);

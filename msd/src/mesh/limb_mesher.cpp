@@ -114,7 +114,7 @@ void validate_limb(const LimbSurfaces& s) {
   for (const auto& [r, m] : s.inner)
     for (int v = 0; v < m.num_vertices(); ++v)
       if (!skin.inside(m.vertices.col(v)))
-        throw Error(label_of(s, r) + ": vertex " + std::to_string(v) + " at " + point_text(m.vertices.col(v)) +
+        throw Error(label_of(s, r) + ": vertex " + std::to_string(v + 1) + " at " + point_text(m.vertices.col(v)) +
                     " lies outside the skin");
   for (auto a = s.inner.begin(); a != s.inner.end(); ++a)
     for (auto b = std::next(a); b != s.inner.end(); ++b) {
@@ -125,7 +125,7 @@ void validate_limb(const LimbSurfaces& s) {
         for (int v = 0; v < m.num_vertices(); ++v)
           if (inside.inside(m.vertices.col(v)))
             throw Error(label_of(s, first->first) + " and " + label_of(s, second->first) + " overlap: vertex " +
-                        std::to_string(v) + " of the first at " + point_text(m.vertices.col(v)) +
+                        std::to_string(v + 1) + " of the first at " + point_text(m.vertices.col(v)) +
                         " lies inside the second");
       }
     }
@@ -144,11 +144,24 @@ LimbMesh mesh_limb(const LimbSurfaces& s, const LimbMeshOptions& o) {
     return r;
   };
   const TriangleMesh skin = rotated(s.skin);
-  out.grid = make_grid(bounding_box(skin), o.spacing, o.origin, o.max_cubes);
+  try {
+    out.grid = make_grid(bounding_box(skin), o.spacing, o.origin, o.max_cubes);
+  } catch (const Error& e) {
+    throw Error((o.memory.context.empty() ? std::string("limb mesh: ") : o.memory.context) + e.what());
+  }
+  const std::string where = "limb mesh: spacing " + std::to_string(o.spacing) + " m: ";
+  // One flag array per surface besides the labels.
+  check_memory(static_cast<double>(out.grid.nx) * out.grid.ny * out.grid.nz,
+               kGridBytesPerCube * (1.0 + 0.25 * static_cast<double>(s.inner.size())), "a grid", o.memory, where);
   const std::vector<char> skin_cubes = classify_cubes(out.grid, InsideTest(skin), o.rule);
   std::vector<RegionCubes> inner;
   for (const auto& [r, m] : s.inner) inner.push_back({r, classify_cubes(out.grid, InsideTest(rotated(m)), o.rule)});
   out.labels = label_regions(out.grid, skin_cubes, inner);
+  {
+    double solid = 0.0;
+    for (int l : out.labels.label) solid += l >= 0 ? 1.0 : 0.0;
+    check_memory(solid, o.solid_bytes_per_cube, "a limb", o.memory, where);
+  }
 
   GridMeshInfo info;
   out.mesh = split_cubes(out.grid, out.labels.label, &info);

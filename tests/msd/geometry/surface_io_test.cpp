@@ -126,7 +126,10 @@ TEST(SurfaceIo, MalformedFilesNameTheFileAndThePlace) {
       << error_of(dir.file("type.ply"));
   // A face that refers past the vertices.
   std::string bad = ply(kBox, "ascii");
-  bad.replace(bad.rfind("3 "), 2, "3 99 ");
+  {  // the last face's first index becomes 99 ("3 a b c" -> "3 99 b c")
+    const size_t at = bad.rfind("\n3 ") + 3;
+    bad.replace(at, bad.find(' ', at) - at, "99");
+  }
   write_text(dir.file("index.ply"), bad);
   EXPECT_NE(error_of(dir.file("index.ply")).find("refers to vertex 99"), std::string::npos) << error_of(dir.file("index.ply"));
   // A binary PLY that ends early names the element.
@@ -138,7 +141,71 @@ TEST(SurfaceIo, MalformedFilesNameTheFileAndThePlace) {
   write_text(dir.file("noend.ply"), "ply\nformat ascii 1.0\nelement vertex 0\n");
   EXPECT_NE(error_of(dir.file("noend.ply")).find("no 'end_header'"), std::string::npos);
   EXPECT_NE(error_of(dir.file("leg.fbx")).find("unknown surface format '.fbx'"), std::string::npos);
-  EXPECT_NE(error_of(dir.file("absent.stl")).find("cannot open"), std::string::npos);
+  EXPECT_NE(error_of(dir.file("absent.stl")).find("absent.stl: cannot read the STL file"), std::string::npos)
+      << error_of(dir.file("absent.stl"));
+}
+
+TEST(SurfaceIo, APlyWhoseHeaderCountsDoNotMatchItsDataSaysSoAtTheLine) {
+  testing_support::TempDir dir("surface_io");
+  const std::string good = ply(kBox, "ascii");  // 8 vertices, 12 faces; the header ends on line 12
+  ASSERT_NE(good.find("element vertex 8\n"), std::string::npos);
+  ASSERT_NE(good.find("element face 12\n"), std::string::npos);
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string s = good;
+    s.replace(s.find(from), from.size(), to);
+    return s;
+  };
+  // One face more in the header than in the file: the file ends first.
+  write_text(dir.file("more.ply"), with("element face 12\n", "element face 13\n"));
+  const std::string more = error_of(dir.file("more.ply"));
+  EXPECT_NE(more.find("more.ply: the file ends after line 32, before face 13 of 13"), std::string::npos) << more;
+  EXPECT_NE(more.find("the header's element counts do not match the file"), std::string::npos) << more;
+  // One face fewer: the last line is data after the last element.
+  write_text(dir.file("fewer.ply"), with("element face 12\n", "element face 11\n"));
+  const std::string fewer = error_of(dir.file("fewer.ply"));
+  EXPECT_NE(fewer.find("fewer.ply:32: data after the last element"), std::string::npos) << fewer;
+  // One vertex fewer: the eighth vertex's line is read as the first face.
+  write_text(dir.file("shifted.ply"), with("element vertex 8\n", "element vertex 7\n"));
+  const std::string shifted = error_of(dir.file("shifted.ply"));
+  EXPECT_NE(shifted.find("shifted.ply:20: face 1 of 12"), std::string::npos) << shifted;
+  EXPECT_NE(shifted.find("the header's element counts do not match the file"), std::string::npos) << shifted;
+  // A face with an index past the vertices names its line.
+  std::string past = good;
+  past.replace(past.rfind("\n3 ") + 3, 1, "9");
+  write_text(dir.file("past.ply"), past);
+  EXPECT_NE(error_of(dir.file("past.ply")).find("past.ply:32: PLY face refers to vertex 9"), std::string::npos)
+      << error_of(dir.file("past.ply"));
+}
+
+TEST(SurfaceIo, SurfaceErrorsCountFromOneAndNameTheFileLine) {
+  testing_support::TempDir dir("surface_io");
+  msd::TriangleMesh open = kBox;
+  open.triangles.pop_back();
+  msd::write_obj(dir.file("open.obj"), open);
+  const msd::TriangleMesh m = msd::read_surface(dir.file("open.obj"));
+  ASSERT_EQ(m.triangle_line.size(), m.triangles.size());
+  try {
+    msd::validate_closed_surface(m, dir.file("open.obj"));
+    FAIL() << "an open surface validated";
+  } catch (const msd::Error& e) {
+    // The open edge belongs to some triangle: its message names the OBJ line
+    // of that face ("open.obj:LINE: triangle T"), T counted from 1.
+    const std::string w = e.what();
+    const size_t at = w.find("open.obj:");
+    ASSERT_NE(at, std::string::npos) << w;
+    const int line = std::stoi(w.substr(at + 9));
+    const size_t tri = w.find(": triangle ");
+    ASSERT_NE(tri, std::string::npos) << w;
+    const int t = std::stoi(w.substr(tri + 11));
+    ASSERT_GE(t, 1);
+    ASSERT_LE(t, m.num_triangles());
+    EXPECT_EQ(line, m.triangle_line[static_cast<size_t>(t - 1)]) << w;
+    const std::string text = testing_support::read_text(dir.file("open.obj"));
+    std::istringstream lines(text);
+    std::string l;
+    for (int k = 0; k < line; ++k) std::getline(lines, l);
+    EXPECT_EQ(l.substr(0, 2), "f ") << "line " << line << " of open.obj is '" << l << "'";
+  }
 }
 
 TEST(SurfaceIo, AnOpenOrFlippedUserSurfaceFailsValidationByName) {
@@ -151,7 +218,9 @@ TEST(SurfaceIo, AnOpenOrFlippedUserSurfaceFailsValidationByName) {
     msd::validate_closed_surface(m, "skin (open.stl)");
     FAIL() << "an open surface validated";
   } catch (const msd::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("skin (open.stl): the surface is open"), std::string::npos) << e.what();
+    // "skin (open.stl):LINE: triangle T: the surface is open: ..." (the facet's line).
+    EXPECT_NE(std::string(e.what()).find("skin (open.stl):"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(": the surface is open: its edge from vertex"), std::string::npos) << e.what();
   }
   msd::TriangleMesh flipped = kBox;
   for (auto& t : flipped.triangles) std::swap(t[1], t[2]);

@@ -95,14 +95,15 @@ TEST(TriangleMesh, RejectsNonManifoldVertex) {
     for (int& k : t) k = (k == 0) ? 7 : k + offset;  // b's corner 0 is a's corner 7
     a.triangles.push_back(t);
   }
-  EXPECT_NE(error_of(a).find("vertex 7 is non-manifold"), std::string::npos) << error_of(a);
+  // Counted from 1, as the OBJ file counts: a's corner 7 (0-based) is vertex 8.
+  EXPECT_NE(error_of(a).find("vertex 8 at (1, 1, 1) is non-manifold"), std::string::npos) << error_of(a);
 }
 
 TEST(TriangleMesh, RejectsDegenerateTriangleAndBadIndex) {
   TriangleMesh m = msd::make_box(Vec3(0, 0, 0), Vec3(1, 1, 1));
   TriangleMesh bad_index = m;
   bad_index.triangles[0][0] = 99;
-  EXPECT_NE(error_of(bad_index).find("refers to vertex 99"), std::string::npos);
+  EXPECT_NE(error_of(bad_index).find("triangle 1 refers to vertex 100"), std::string::npos) << error_of(bad_index);
   TriangleMesh degenerate = m;
   degenerate.vertices.col(1) = degenerate.vertices.col(0);
   EXPECT_NE(error_of(degenerate).find("degenerate"), std::string::npos) << error_of(degenerate);

@@ -14,6 +14,9 @@ namespace msd {
 struct TriangleMesh {
   Points vertices;
   std::vector<Tri> triangles;
+  /// Per triangle, the 1-based line of the file that defined it (OBJ, ASCII
+  /// STL and PLY); empty or 0 where unknown (binary files, generated meshes).
+  std::vector<int> triangle_line;
 
   int num_vertices() const { return static_cast<int>(vertices.cols()); }
   int num_triangles() const { return static_cast<int>(triangles.size()); }
@@ -80,5 +83,9 @@ Points vertex_normals(const TriangleMesh& mesh);
 /// volume). Throws msd::Error whose message starts with `name` and states the
 /// first fault found, with the triangle, edge or vertex indices involved.
 void validate_closed_surface(const TriangleMesh& mesh, const std::string& name);
+
+/// "NAME:LINE: triangle T" for messages: T counted from 1 in reading order,
+/// the line where the file has one (TriangleMesh::triangle_line).
+std::string triangle_where(const TriangleMesh& mesh, const std::string& name, int t);
 
 }  // namespace msd

@@ -1,0 +1,82 @@
+// Surfaces that cross themselves or each other are refused with both
+// triangles named (tbio/surface_check.hpp); touching-free nested surfaces and
+// pairs not listed pass.
+#include "tbio/surface_check.hpp"
+
+#include "msd/core/types.hpp"
+#include "msd/geometry/triangle_mesh.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+namespace {
+
+using msd::Vec3;
+
+// Two closed boxes as one surface (one file): `b` appended after `a`.
+msd::TriangleMesh merged(const msd::TriangleMesh& a, const msd::TriangleMesh& b) {
+  msd::TriangleMesh m = a;
+  const int offset = a.num_vertices();
+  m.vertices.conservativeResize(3, offset + b.num_vertices());
+  m.vertices.rightCols(b.num_vertices()) = b.vertices;
+  for (msd::Tri t : b.triangles) {
+    for (int& k : t) k += offset;
+    m.triangles.push_back(t);
+  }
+  return m;
+}
+
+std::string error_of(const std::vector<tbio::NamedSurface>& s, const std::vector<std::pair<int, int>>& pairs) {
+  try {
+    tbio::refuse_intersections(s, pairs);
+  } catch (const msd::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(SurfaceCheck, AClosedBoxAndNestedBoxesPass) {
+  const msd::TriangleMesh outer = msd::make_box(Vec3(0, 0, 0), Vec3(1, 1, 1));
+  const msd::TriangleMesh inner = msd::make_box(Vec3(0.2, 0.2, 0.2), Vec3(0.8, 0.8, 0.8));
+  EXPECT_EQ(error_of({{&outer, "skin.obj"}}, {}), "");
+  EXPECT_EQ(error_of({{&outer, "skin.obj"}, {&inner, "bone.obj"}}, {{0, 1}}), "");
+  const msd::TriangleMesh cylinder = msd::make_cylinder(0.3, 0.5, 24);
+  EXPECT_EQ(error_of({{&cylinder, "c.stl"}}, {}), "");
+}
+
+TEST(SurfaceCheck, ASurfaceMadeOfTwoOverlappingShellsCrossesItself) {
+  // Meshed as one solid, the overlap would be a hidden void (the case).
+  const msd::TriangleMesh m = merged(msd::make_box(Vec3(0, 0, 0), Vec3(1, 1, 1)),
+                                     msd::make_box(Vec3(0.5, 0.5, 0.5), Vec3(1.5, 1.5, 1.5)));
+  msd::validate_closed_surface(m, "two.obj");  // closed and manifold: only the crossing is wrong
+  const std::string w = error_of({{&m, "two.obj"}}, {});
+  EXPECT_NE(w.find("intersect: the surface crosses itself"), std::string::npos) << w;
+  // Both triangles named from 1, one of each shell (the first has 12).
+  const size_t first = w.find("two.obj: triangle "), second = w.find(" and two.obj: triangle ");
+  ASSERT_NE(first, std::string::npos) << w;
+  ASSERT_NE(second, std::string::npos) << w;
+  const int a = std::stoi(w.substr(first + 18)), b = std::stoi(w.substr(second + 23));
+  EXPECT_GE(a, 1);
+  EXPECT_LE(a, 12);
+  EXPECT_GE(b, 13);
+  EXPECT_LE(b, 24);
+}
+
+TEST(SurfaceCheck, TwoCrossingSurfacesAreRefusedOnlyWhenThePairMustNotCross) {
+  const msd::TriangleMesh skin = msd::make_box(Vec3(0, 0, 0), Vec3(1, 1, 1));
+  const msd::TriangleMesh poke = msd::make_box(Vec3(0.5, 0.4, 0.4), Vec3(1.5, 0.6, 0.6));  // through the +x face
+  msd::TriangleMesh lined = skin;
+  lined.triangle_line.assign(skin.triangles.size(), 0);
+  for (size_t t = 0; t < lined.triangle_line.size(); ++t) lined.triangle_line[t] = 20 + static_cast<int>(t);
+  const std::string w = error_of({{&lined, "skin.obj"}, {&poke, "muscle.stl"}}, {{0, 1}});
+  EXPECT_NE(w.find("the surfaces skin.obj and muscle.stl cross each other"), std::string::npos) << w;
+  // The skin's triangle carries its OBJ line: "skin.obj:LINE: triangle T" with LINE = 19 + T.
+  const size_t at = w.find("skin.obj:");
+  ASSERT_NE(at, std::string::npos) << w;
+  const int line = std::stoi(w.substr(at + 9));
+  const int t = std::stoi(w.substr(w.find(": triangle ", at) + 11));
+  EXPECT_EQ(line, 19 + t) << w;
+  EXPECT_EQ(error_of({{&lined, "skin.obj"}, {&poke, "muscle.stl"}}, {}), "");  // a pair allowed to cross
+}
