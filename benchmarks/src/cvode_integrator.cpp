@@ -1,5 +1,6 @@
 #include "bench/cvode_integrator.hpp"
 
+#include "msd/experiments/blowup.hpp"
 #include "msd/integrate/step.hpp"
 
 #include <cvode/cvode.h>
@@ -115,7 +116,7 @@ CvodeStats run_experiment_cvode(const msd::Model& model, msd::State initial, dou
 
   CvodeStats stats;
   msd::Scratch scratch;
-  const double limit = o.blowup_factor * size;
+  msd::BlowUpLimits limits(model, size, o.blowup_factor);
   double t = 0.0;
   for (long k = 0;; ++k) {
     double tout = std::min(k * o.output_interval, end_time);
@@ -140,11 +141,8 @@ CvodeStats run_experiment_cvode(const msd::Model& model, msd::State initial, dou
     st.t = tout;
     st.step = k;
     msd::apply_constraints(model, hooks.controls(tout), st);
-    Eigen::Index worst = 0;
-    const double d = (st.x - model.rest_positions).colwise().norm().maxCoeff(&worst);
-    if (d > limit)
-      throw msd::SimulationFailure("blow-up: a node moved " + std::to_string(d) + " m from rest", tout, k, -1,
-                                   static_cast<int>(worst));
+    limits.see_load_speed(msd::load_speed(hooks.controls(tout)));
+    limits.check(model, st);
     if (!hooks.sample(st, scratch)) break;
     if (tout >= end_time) break;
   }

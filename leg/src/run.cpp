@@ -5,6 +5,7 @@
 #include "leg/limb_input.hpp"
 #include "leg/outputs.hpp"
 #include "leg/sensors.hpp"
+#include "msd/experiments/blowup.hpp"
 #include "leg/session.hpp"
 
 #include <chrono>
@@ -82,6 +83,18 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
     msd::step_leg(leg, probe, controls, 0.0, scratch);
   }
 
+  // Blow-up limits (msd/experiments/blowup.hpp): the leg's extent as its
+  // size, the knee's swing and the obstacles' scripted motion as the loading.
+  const msd::Points& rest = leg.tissue.rest_positions;
+  const double size = (rest.rowwise().maxCoeff() - rest.rowwise().minCoeff()).norm();
+  msd::BlowUpLimits limits(leg.tissue, size, 10.0);
+  const auto check_blow_up = [&]() {
+    double v = std::abs(state.knee.velocity) * size;
+    for (const msd::Vec3& o : controls.obstacle_velocity) v = std::max(v, o.norm());
+    limits.see_load_speed(v);
+    limits.check(leg.tissue, state.tissue);
+  };
+
   Recorded recorded;
   std::vector<double> frame_times;
   Frame frame;
@@ -113,7 +126,10 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
       drive(scene, variant, k * scene.dt, scene.dt, controls);
       msd::step_leg(leg, state, controls, scene.dt, scratch);
       state.tissue.t = k * scene.dt;  // no drift from summing dt
-      if (k % steps_per_frame == 0) record();
+      if (k % steps_per_frame == 0) {
+        check_blow_up();
+        record();
+      }
       if (progress && k % 500 == 0) progress(state.tissue.t, scene.duration);
       sum.steps = k;
     }

@@ -1,5 +1,6 @@
 #include "msd/experiments/rig.hpp"
 
+#include "msd/experiments/blowup.hpp"
 #include "msd/forces/element_forces.hpp"
 
 #include <cmath>
@@ -102,19 +103,15 @@ RunStats run_experiment(const Model& model, State state, double end_time, double
   apply_constraints(model, hooks.controls(0.0), state);
   RunStats stats;
   const long total_steps = static_cast<long>(std::ceil(end_time / opt.dt - 1e-9));
-  const double limit = opt.blowup_factor * size;
+  BlowUpLimits limits(model, size, opt.blowup_factor);
   double next_output = 0.0;
   long output_index = 0;
   for (long k = 0;; ++k) {
     const double t = k * opt.dt;
     state.t = t;  // avoid drift from repeated addition
     if (t >= next_output - 1e-12 * opt.dt || k == total_steps) {
-      Eigen::Index worst = 0;
-      const double d = (state.x - model.rest_positions).colwise().norm().maxCoeff(&worst);
-      if (d > limit)
-        throw SimulationFailure("blow-up: a node moved " + std::to_string(d) + " m from rest (" +
-                                    std::to_string(opt.blowup_factor) + " sample sizes)",
-                                t, state.step, -1, static_cast<int>(worst));
+      limits.see_load_speed(load_speed(hooks.controls(t)));
+      limits.check(model, state);
       if (!hooks.sample(state, scratch)) break;
       ++output_index;
       next_output = output_index * opt.output_interval;

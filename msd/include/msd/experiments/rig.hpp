@@ -59,7 +59,8 @@ struct TimeSteppingOptions {
   double dt = 1e-4;
   Integrator integrator = Integrator::SymplecticEuler;
   double output_interval = 0.01;
-  /// A node moving farther than this many sample sizes from rest is a blow-up.
+  /// A node moving farther than this many sample sizes from rest is a blow-up
+  /// (and the other limits of msd/experiments/blowup.hpp).
   double blowup_factor = 10.0;
 };
 
@@ -77,7 +78,9 @@ struct ExperimentHooks {
 };
 
 /// Integrates from `initial` to end_time. Throws SimulationFailure on a
-/// non-finite value or a blow-up (a node farther than blowup_factor * size).
+/// non-finite value or a blow-up (BlowUpLimits, checked at every output: a
+/// node farther than blowup_factor * size, too fast, or too much kinetic
+/// energy).
 RunStats run_experiment(const Model& model, State initial, double end_time, double size,
                         const TimeSteppingOptions& options, const ExperimentHooks& hooks);
 
