@@ -1,6 +1,7 @@
 #include "bench/msd_runner.hpp"
 
 #include "bench/shared_io.hpp"
+#include "tbio/surface_check.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -25,7 +26,12 @@ const MsdSpec& msd_section(const Spec& spec) {
 msd::TriangleMesh make_surface(const GeometrySpec& g) {
   if (g.shape == "cylinder") return msd::make_cylinder(g.radius, g.height, g.segments);
   if (g.shape == "box") return msd::make_box(msd::Vec3::Zero(), g.size);
-  if (g.shape == "obj") return msd::read_surface(g.file);  // .obj, .stl or .ply
+  if (g.shape == "obj") {  // .obj, .stl or .ply: closed, and not crossing itself
+    msd::TriangleMesh m = msd::read_surface(g.file);
+    msd::validate_closed_surface(m, g.file);
+    tbio::refuse_intersections({{&m, g.file}}, {});
+    return m;
+  }
   if (g.shape == "cooks_membrane")
     throw msd::Error("geometry.shape: cooks_membrane is a plane-strain benchmark for the fem solver only");
   throw msd::Error("geometry.shape: unsupported shape '" + g.shape + "'");
@@ -39,6 +45,10 @@ msd::SampleMesh make_sample_mesh(const Spec& spec) {
   o.rule = msd::parse_cube_rule(mesh.rule);
   o.origin = mesh.origin;
   o.max_cubes = mesh.max_cubes;
+  o.memory.bytes = 1e9 * mesh.memory_limit_gb;
+  o.memory.how_to_raise = "mesh.memory_limit_gb in " + spec.path;
+  o.memory.context = spec.path + ": mesh.spacing " + tbio::json_number(mesh.spacing) + " m: ";
+  o.solid_bytes_per_cube = msd::kRunBytesPerCube;
   const std::string name = spec.geometry.shape == "obj" ? spec.geometry.file
                                                         : spec.path + ": geometry";
   return msd::mesh_closed_surface(make_surface(spec.geometry), o, name);

@@ -45,6 +45,8 @@ std::vector<Parameter> declare_model() {
       choice("mesh.rule", {"centre", "center", "inside", "overlap"}, mesh.rule, "which cubes are kept (docs/msd-model.md)"),
       vector3("mesh.origin", "m", std::nullopt, "the grid's origin", "the surface's lowest corner"),
       integer("mesh.max_cubes", static_cast<double>(mesh.max_cubes), Range::closed_open(1, 1.0 / 0.0), "refuse larger grids"),
+      optional_number("mesh.memory_limit_gb", "GB", positive,
+                      "refuse a grid whose estimated memory is larger (default: half of this machine's; docs/memory.md)"),
       other("material.library", Kind::Text, "", "none", "start from this entry of benchmarks/materials.yaml; the spec's fields override it"),
       other("material.name", Kind::Text, "", "empty", "a label"),
       number("material.density", "kg/m^3", std::nullopt, positive, "required (or from the library)"),

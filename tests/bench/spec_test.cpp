@@ -215,3 +215,27 @@ TEST(Spec, PreloadRampsSmoothlyHoldsAndReleases) {
   EXPECT_DOUBLE_EQ(p.back().first, 3.5);
   EXPECT_DOUBLE_EQ(p.back().second, 0.0);
 }
+
+TEST(Spec, ATimeStepLeavingFewerThanTenStepsOverTheLoadingIsRefused) {
+  // dt = 1000 s on a 1 s loading took one step and was marked complete.
+  const std::string e = error_of(replace(kGood, "dt: 1.0e-4", "dt: 1000"));
+  EXPECT_NE(e.find("s.yaml:5:"), std::string::npos) << e;
+  EXPECT_NE(e.find("msd.dt: dt = 1000 s leaves fewer than ten steps over the loading, which lasts 1 s: use at most 0.1 s"),
+            std::string::npos) << e;
+  EXPECT_EQ(error_of(replace(kGood, "dt: 1.0e-4", "dt: 0.1")), "");
+  EXPECT_NE(error_of(replace(kGood, "dt: 1.0e-4", "dt: 0.11")).find("fewer than ten steps"), std::string::npos);
+}
+
+TEST(Spec, ARepeatedKeyIsRefusedInsteadOfReadingTheFirst) {
+  // yaml-cpp keeps the first value: the invalid second one was never checked.
+  const std::string e = error_of(replace(kGood, "dt: 1.0e-4}", "dt: 1.0e-4, dt: -1}"));
+  EXPECT_NE(e.find("s.yaml:5:"), std::string::npos) << e;
+  EXPECT_NE(e.find("duplicate key 'dt' (first given at line 5)"), std::string::npos) << e;
+}
+
+TEST(Spec, AMemoryLimitIsAFieldOfTheMesh) {
+  const bench::Spec s = bench::parse_spec(replace(kGood, "spacing: 0.01}", "spacing: 0.01, memory_limit_gb: 2.5}"), "s.yaml");
+  EXPECT_DOUBLE_EQ(s.mesh->memory_limit_gb, 2.5);
+  EXPECT_NE(error_of(replace(kGood, "spacing: 0.01}", "spacing: 0.01, memory_limit_gb: -1}")).find("mesh.memory_limit_gb"),
+            std::string::npos);
+}

@@ -30,6 +30,7 @@ struct MeshSpec {
   std::string rule = "centre";       ///< centre | inside | overlap
   std::optional<Eigen::Vector3d> origin;
   long max_cubes = 20'000'000;
+  double memory_limit_gb = 0.0;      ///< 0: half of this machine's memory (msd/core/memory.hpp)
 };
 
 struct MaterialSpec {

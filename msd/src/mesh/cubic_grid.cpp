@@ -41,7 +41,8 @@ CubicGrid make_grid(const Aabb& box, double h, std::optional<Vec3> origin, long 
     throw Error("a grid of " + std::to_string(static_cast<long>(cells[0])) + " x " +
                 std::to_string(static_cast<long>(cells[1])) + " x " +
                 std::to_string(static_cast<long>(cells[2])) + " cubes exceeds the limit of " +
-                std::to_string(max_cubes) + " (increase h or the mesh size limit)");
+                std::to_string(max_cubes) + " (raise mesh.max_cubes in the spec or mesh scene, or increase the "
+                "spacing h = " + std::to_string(h) + " m)");
   g.nx = static_cast<int>(cells[0]);
   g.ny = static_cast<int>(cells[1]);
   g.nz = static_cast<int>(cells[2]);
@@ -196,7 +197,14 @@ SampleMesh mesh_closed_surface(const TriangleMesh& surface, const SampleMeshOpti
                                const std::string& name) {
   validate_closed_surface(surface, name);
   SampleMesh out;
-  out.grid = make_grid(bounding_box(surface), options.spacing, options.origin, options.max_cubes);
+  try {
+    out.grid = make_grid(bounding_box(surface), options.spacing, options.origin, options.max_cubes);
+  } catch (const Error& e) {
+    throw Error((options.memory.context.empty() ? name + ": " : options.memory.context) + e.what());
+  }
+  const std::string where = name + ": grid spacing " + std::to_string(options.spacing) + " m: ";
+  check_memory(static_cast<double>(out.grid.nx) * out.grid.ny * out.grid.nz, kGridBytesPerCube, "a grid",
+               options.memory, where);
   const InsideTest test(surface);
   const std::vector<char> keep = classify_cubes(out.grid, test, options.rule);
   std::vector<int> region(keep.size(), -1);
@@ -208,6 +216,7 @@ SampleMesh mesh_closed_surface(const TriangleMesh& surface, const SampleMeshOpti
   if (out.cubes == 0)
     throw Error(name + ": no cube of the grid (h = " + std::to_string(options.spacing) +
                 ", rule " + to_string(options.rule) + ") belongs to the solid; reduce h");
+  check_memory(static_cast<double>(out.cubes), options.solid_bytes_per_cube, "a solid", options.memory, where);
   out.mesh = split_cubes(out.grid, region, &out.info);
   check_tet_mesh(out.mesh, name);
   return out;

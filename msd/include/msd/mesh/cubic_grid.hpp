@@ -4,6 +4,8 @@
 // split mirrored on alternate cubes so neighbouring faces conform.
 #pragma once
 
+#include "msd/core/memory.hpp"
+
 #include "msd/geometry/inside_test.hpp"
 #include "msd/geometry/triangle_mesh.hpp"
 #include "msd/mesh/tet_mesh.hpp"
@@ -77,6 +79,10 @@ struct SampleMeshOptions {
   std::optional<Vec3> origin;
   long max_cubes = kDefaultMaxCubes;
   int region = kPassiveTissue;
+  /// Memory estimated before allocating (msd/core/memory.hpp): the grid, then
+  /// the solid cubes at solid_bytes_per_cube (a run's, or meshing's).
+  MemoryLimit memory;
+  double solid_bytes_per_cube = kRunBytesPerCube;
 };
 
 struct SampleMesh {

@@ -40,6 +40,10 @@ struct LimbMeshOptions {
   std::optional<Vec3> origin;              ///< grid origin in the rotated frame (default: the skin's lowest corner)
   CubeRule rule = CubeRule::Centre;
   long max_cubes = kDefaultMaxCubes;
+  /// Memory estimated before allocating (msd/core/memory.hpp): the grid, then
+  /// the solid cubes at solid_bytes_per_cube (meshing's, or a run's).
+  MemoryLimit memory;
+  double solid_bytes_per_cube = kMeshBytesPerCube;
   /// Thesis 4.6: boundary nodes of the tet mesh inside these areas move towards
   /// the closest point of the skin, as far as every tet around them keeps a
   /// quality of at least pull_min_quality (the move is halved up to 6 times,
