@@ -1,11 +1,13 @@
 #include "leg_commands.hpp"
 
+#include "cli_checks.hpp"
 #include "progress.hpp"
 
 #include "leg/limb_input.hpp"
 #include "leg/run.hpp"
 #include "leg/scene.hpp"
 #include "leg/viewer.hpp"
+#include "tbio/series_tools.hpp"
 
 #include "msd/geometry/leg_generator.hpp"
 #include "msd/io/atomic_file.hpp"
@@ -36,7 +38,12 @@ int cmd_leg(const LegArgs& args) {
   const std::string file =
       args.scene.empty() ? std::string(TISSUEBENCH_DATA_DIR) + "/scenes/hamstrings.yaml" : args.scene;
   leg::LegScene scene = leg::read_leg_scene(file);
-  if (args.duration > 0.0) scene.duration = args.duration;
+  if (args.duration > 0.0) {
+    if (args.duration < 10.0 * scene.dt)
+      throw msd::Error("--duration: " + tbio::json_number(args.duration) + " s is fewer than ten steps of the scene's dt (" +
+                       tbio::json_number(scene.dt) + " s, " + file + ")");
+    scene.duration = args.duration;
+  }
   if (args.obj_every >= 0) scene.obj_every = args.obj_every;
   ProgressLine progress(scene.name + " (leg)", !args.quiet);
   const auto runs = leg::run_leg_scene(scene, args.out, [&](double t, double end) { progress.update(t, end); });
@@ -47,7 +54,7 @@ int cmd_leg(const LegArgs& args) {
     if (r.status != "complete") {
       std::fprintf(stderr, "error: %s%s%s: %s\n", scene.name.c_str(), r.variant.empty() ? "" : " / ",
                    r.variant.c_str(), r.failure.c_str());
-      rc = 3;
+      rc = 1;
     }
   }
   std::printf("written: %s/ (leg.h5, leg.csv, leg.xdmf, skin/frame_*.obj, summary.json)\n", args.out.c_str());
@@ -145,18 +152,26 @@ void add_leg_commands(CLI::App& cli, LegCommands& c) {
                       "scene, msd/data/scenes/hamstrings.yaml")
       ->check(CLI::ExistingFile);
   c.leg_cmd->add_option("--out", c.leg.out, "Output folder")->capture_default_str();
-  c.leg_cmd->add_option("--duration", c.leg.duration, "Run only this many simulated seconds");
-  c.leg_cmd->add_option("--obj-every", c.leg.obj_every, "Write the skin as OBJ every n-th frame (0: none)");
+  c.leg_cmd->add_option("--duration", c.leg.duration, "Run only this many simulated seconds")
+      ->check(app::finite_positive("simulated seconds"));
+  c.leg_cmd->add_option("--obj-every", c.leg.obj_every, "Write the skin as OBJ every n-th frame (0: none)")
+      ->check(app::integer_in(0, 1000000000, "frames"));
   c.leg_cmd->add_flag("--quiet", c.leg.quiet, "No progress line");
   c.geometry_cmd = cli.add_subcommand(
       "leg-geometry", "Generate the parametric leg (skin, femur, lower bone, two muscles, tendon paths) from "
                       "anthropometry scaled by stature and mass: OBJ surfaces and the mesh scene leg.yaml");
-  c.geometry_cmd->add_option("--stature", c.geometry.stature, "Stature (m), 1.2-2.3")->capture_default_str();
-  c.geometry_cmd->add_option("--mass", c.geometry.mass, "Body mass (kg), 30-200")->capture_default_str();
+  c.geometry_cmd->add_option("--stature", c.geometry.stature, "Stature (m), 1.2-2.3")
+      ->check(app::finite_in(1.2, 2.3, "m"))
+      ->capture_default_str();
+  c.geometry_cmd->add_option("--mass", c.geometry.mass, "Body mass (kg), 30-200")
+      ->check(app::finite_in(30.0, 200.0, "kg"))
+      ->capture_default_str();
   c.geometry_cmd->add_option("--spacing", c.geometry.spacing,
-                               "Grid spacing written into leg.yaml (m); default 0.0245 m scaled by stature");
+                               "Grid spacing written into leg.yaml (m); default 0.0245 m scaled by stature")
+      ->check(app::finite_positive("m"));
   c.geometry_cmd->add_option("--skin-cell", c.geometry.skin_cell,
                                "Skin resolution: marching-tetrahedra cell (m); inner surfaces use half")
+      ->check(app::finite_positive("m"))
       ->capture_default_str();
   c.geometry_cmd->add_option("--out", c.geometry.out, "Output folder; default: msd/data/leg (the shipped files)");
   c.view_cmd = cli.add_subcommand(
@@ -166,7 +181,7 @@ void add_leg_commands(CLI::App& cli, LegCommands& c) {
       ->required();
   c.view_cmd->add_option("--out", c.view.out, "The page (HTML); default: RUN_DIR/view.html");
   c.view_cmd->add_option("--max-frames", c.view.max_frames, "At most this many frames (every k-th and the last)")
-      ->check(CLI::Range(2, 100000))
+      ->check(app::integer_in(2, 100000, "frames"))
       ->capture_default_str();
   c.view_cmd->add_flag("--open", c.view.open, "Open the page with xdg-open");
   c.serve_cmd = cli.add_subcommand(
@@ -177,14 +192,14 @@ void add_leg_commands(CLI::App& cli, LegCommands& c) {
                           "Scene file (YAML; see docs/leg-scenes.md); default: msd/data/scenes/hamstrings.yaml")
       ->check(CLI::ExistingFile);
   c.serve_cmd->add_option("--port", c.serve.port, "TCP port (0: any free port)")
-      ->check(CLI::Range(0, 65535))
+      ->check(app::integer_in(0, 65535, "a TCP port"))
       ->capture_default_str();
   c.serve_cmd->add_option("--bind", c.serve.bind, "Address to listen on (only this machine unless you say otherwise)")
       ->capture_default_str();
   c.serve_cmd->add_option("--seconds", c.serve.seconds, "Stop after this many wall seconds (0: until Ctrl-C)")
-      ->check(CLI::Range(0.0, 1e9));
+      ->check(app::finite_in(0.0, 1e9, "wall seconds"));
   c.serve_cmd->add_option("--threads", c.serve.threads, "Force-evaluation threads (default: the scene's)")
-      ->check(CLI::Range(1, 256));
+      ->check(app::integer_in(1, 256, "threads"));
 }
 
 std::optional<int> run_leg_command(const LegCommands& c, bool root_process) {

@@ -26,7 +26,7 @@ struct LegArgs {
   int obj_every = -1;              ///< >= 0: overrides the scene's outputs.obj_every
   bool quiet = false;
 };
-/// Runs a leg scene (tissuebench leg SCENE.yaml --out DIR). Exit 3 when the
+/// Runs a leg scene (tissuebench leg SCENE.yaml --out DIR). Exit 1 when the
 /// simulation blew up (its files keep what was written, marked failed).
 int cmd_leg(const LegArgs& args);
 

@@ -1,5 +1,6 @@
 // tissuebench: the command-line program. Parses arguments and calls the
 // libraries; every error becomes one clear message and a non-zero exit.
+#include "cli_checks.hpp"
 #include "commands.hpp"
 #include "leg_commands.hpp"
 
@@ -64,8 +65,10 @@ int main(int argc, char** argv) {
                            "Refinement levels (box, cylinder: global refinements; Cook's membrane: the spec's "
                            "cells times 2^level); at least three for an order")
       ->delimiter(',')
+      ->check(app::integer_in(0, 8, "a refinement level"))
       ->capture_default_str();
-  converge_cmd->add_option("--degree", converge.degree, "Element degree (default: the spec's)");
+  converge_cmd->add_option("--degree", converge.degree, "Element degree (default: the spec's)")
+      ->check(app::integer_in(1, 4, "a finite-element degree"));
   converge_cmd->add_option("--out", converge.out, "Folder for the results files and the JSON study")
       ->capture_default_str();
   converge_cmd->add_flag("--quiet", converge.quiet, "No progress line");
@@ -93,16 +96,16 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   calibrate_cmd->add_option("--max-evaluations", calibrate.max_evaluations,
                             "Budget of objective evaluations for the optimiser (stage 1: the elastic factors)")
-      ->check(CLI::Range(4, 1000))
+      ->check(app::integer_in(4, 1000, "objective evaluations"))
       ->capture_default_str();
   calibrate_cmd->add_option("--max-damping-evaluations", calibrate.max_damping_evaluations,
                             "Budget of objective evaluations for the damping fit (stage 2)")
-      ->check(CLI::Range(2, 1000))
+      ->check(app::integer_in(2, 1000, "objective evaluations"))
       ->capture_default_str();
   calibrate_cmd->add_option("--volume-weight", calibrate.volume_weight,
                             "Weight w of the uni-axial volume-ratio residual w (V_msd - V_fem) against the "
                             "relative stress residuals (0: stress only)")
-      ->check(CLI::Range(0.0, 1e3))
+      ->check(app::finite_in(0.0, 1e3, "a residual weight"))
       ->capture_default_str();
   calibrate_cmd->add_flag("--quiet", calibrate.quiet, "No per-evaluation lines");
 
@@ -115,8 +118,11 @@ int main(int argc, char** argv) {
   sweep_cmd->add_option("--out", sweep.out, "Folder for the points, the FEM reference and the merged table")
       ->capture_default_str();
   sweep_cmd->add_option("--spacing", sweep.spacing, "Mesh spacings h in m (default: the spec's h and 2h)")
-      ->delimiter(',');
-  sweep_cmd->add_option("--dt", sweep.dt, "Time steps in s (default: the spec's dt and 2.5 dt)")->delimiter(',');
+      ->delimiter(',')
+      ->check(app::finite_positive("a mesh spacing, m"));
+  sweep_cmd->add_option("--dt", sweep.dt, "Time steps in s (default: the spec's dt and 2.5 dt)")
+      ->delimiter(',')
+      ->check(app::finite_positive("a time step, s"));
   sweep_cmd->add_option("--integrators", sweep.integrators,
                         "Fixed-step integrators (default: symplectic_euler,velocity_verlet,explicit_euler)")
       ->delimiter(',');
@@ -134,7 +140,7 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   sweep_cmd->add_option("--point-timeout", sweep.point_timeout,
                         "Wall seconds a point may take before it is stopped and marked timeout (0: no limit)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(app::finite_non_negative("wall seconds"))
       ->capture_default_str();
   sweep_cmd->add_option("--fem-levels", sweep.fem_levels,
                         "FEM runs besides the reference, DEGREE:REFINEMENT on the spec's cells (e.g. 1:0,1:1): "

@@ -1,0 +1,65 @@
+// The command line refuses bad values before anything runs: every numeric
+// option is checked for range and finiteness (NaN included), with the option
+// named, exit 2 and nothing written. Fast: no simulation runs.
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+namespace {
+
+struct Result {
+  int code;
+  std::string output;
+};
+
+Result sh(const std::string& args) {
+  const std::string cmd = std::string(TISSUEBENCH_BINARY) + " " + args + " 2>&1";
+  std::unique_ptr<FILE, int (*)(FILE*)> p(popen(cmd.c_str(), "r"), pclose);
+  std::string out;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, p.get())) out.append(buf, n);
+  const int status = pclose(p.release());
+  return {WEXITSTATUS(status), out};
+}
+
+void expect_refused(const std::string& args, const std::string& message) {
+  const Result r = sh(args);
+  EXPECT_EQ(r.code, 2) << args << "\n" << r.output;
+  EXPECT_NE(r.output.find(message), std::string::npos) << args << "\n" << r.output;
+}
+
+}  // namespace
+
+TEST(CliInput, LegOptionsAreCheckedForRangeAndFiniteness) {
+  testing_support::TempDir dir("cli_input");
+  const std::string out = " --out " + dir.file("leg");
+  expect_refused("leg --duration nan" + out, "--duration: must be a finite number (simulated seconds); got nan");
+  expect_refused("leg --duration -1" + out, "--duration: must be in (0, inf] (simulated seconds); got -1");
+  expect_refused("leg --duration 0" + out, "--duration: must be in (0, inf]");
+  expect_refused("leg --duration inf" + out, "--duration: must be a finite number");
+  expect_refused("leg --duration 1s" + out, "--duration: must be a number (simulated seconds); got '1s'");
+  expect_refused("leg --obj-every -3" + out, "--obj-every: must be in [0, 1000000000] (frames); got -3");
+  // Fewer than ten steps of the scene's dt (the hamstrings: 2e-4 s).
+  expect_refused("leg --duration 0.001" + out, "--duration: 0.001 s is fewer than ten steps of the scene's dt");
+  EXPECT_FALSE(std::filesystem::exists(dir.file("leg")));
+}
+
+TEST(CliInput, GeometryViewAndServeOptionsAreChecked) {
+  testing_support::TempDir dir("cli_input");
+  const std::string out = " --out " + dir.file("g");
+  expect_refused("leg-geometry --spacing -1" + out, "--spacing: must be in (0, inf] (m); got -1");
+  expect_refused("leg-geometry --spacing nan" + out, "--spacing: must be a finite number (m)");
+  expect_refused("leg-geometry --stature 3" + out, "--stature: must be in [1.2, 2.3] (m); got 3");
+  expect_refused("leg-geometry --mass nan" + out, "--mass: must be a finite number (kg)");
+  expect_refused("leg-geometry --skin-cell 0" + out, "--skin-cell: must be in (0, inf]");
+  EXPECT_FALSE(std::filesystem::exists(dir.file("g")));
+  expect_refused("view " + dir.path().string() + " --max-frames 1", "--max-frames: must be in [2, 100000] (frames); got 1");
+  expect_refused("serve --seconds nan", "--seconds: must be a finite number (wall seconds)");
+  expect_refused("serve --port 70000", "--port: must be in [0, 65535] (a TCP port); got 70000");
+  expect_refused("serve --threads 0", "--threads: must be in [1, 256] (threads); got 0");
+}
