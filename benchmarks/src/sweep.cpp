@@ -83,9 +83,21 @@ int spawn(const std::vector<std::string>& argv, const std::string& log, long& ma
       if (w == pid) break;
       if (w < 0) throw msd::Error("sweep: lost the child process of " + log);
       if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeout) {
-        kill(pid, SIGKILL);
+        // SIGTERM first: the run stops at its next step and keeps its file
+        // marked failed ("interrupted"); SIGKILL if it has not ended in 10 s.
+        kill(pid, SIGTERM);
         if (timed_out) *timed_out = true;
-        if (wait4(pid, &status, 0, &ru) < 0) throw msd::Error("sweep: lost the child process of " + log);
+        bool ended = false;
+        for (int i = 0; i < 500 && !ended; ++i) {
+          const pid_t e = wait4(pid, &status, WNOHANG, &ru);
+          if (e < 0) throw msd::Error("sweep: lost the child process of " + log);
+          ended = e == pid;
+          if (!ended) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+        if (!ended) {
+          kill(pid, SIGKILL);
+          if (wait4(pid, &status, 0, &ru) < 0) throw msd::Error("sweep: lost the child process of " + log);
+        }
         break;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -350,7 +362,8 @@ bool ran_before(const SweepPoint& p, const std::string& text, const SweepOptions
   try {
     const Results old = read_results(p.results_file);
     const bool same_text = old.meta.count("spec") && old.meta.at("spec") == text;
-    const bool finished = old.status() == "complete" || old.status() == "failed";
+    const bool interrupted = old.meta.count("failure") && old.meta.at("failure").find("interrupted by signal") == 0;
+    const bool finished = old.status() == "complete" || (old.status() == "failed" && !interrupted);
     std::ifstream tf(p.results_file + ".timeout");
     double limit = -1.0;
     const bool same_timeout = (tf >> limit) && std::abs(limit - o.point_timeout) < 1e-9;
