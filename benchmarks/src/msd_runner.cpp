@@ -532,7 +532,9 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
   if (s.complete) s.steps = stats.steps;
   finish_msd_file(out, s, spec, p, times, tip, rss_start, cpu_start);
   std::error_code ignore;
-  if (s.complete && cp.every > 0.0) std::filesystem::remove(cp_path, ignore);
+  // A completed run's checkpoint (written now, or resumed from) is of no more use.
+  const bool resumed_here = !cp.resume.empty() && std::filesystem::equivalent(cp.resume, cp_path, ignore);
+  if (s.complete && (cp.every > 0.0 || resumed_here)) std::filesystem::remove(cp_path, ignore);
   return s;
 }
 

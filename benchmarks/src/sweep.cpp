@@ -376,18 +376,15 @@ bool ran_before(const SweepPoint& p, const std::string& text, const SweepOptions
 // Runs one point as a child `tissuebench run` (its peak memory and a timeout
 // mark beside its results file); throws when the child could not run.
 void run_point(const SweepPoint& p, const std::string& text, const SweepOptions& o, int rank, size_t count) {
-  {
-    std::ofstream f(p.spec_file);
-    f << text;
-    if (!f) throw msd::Error(p.spec_file + ": cannot write");
-  }
+  msd::write_file_atomically(p.spec_file, [&](std::ostream& f) { f << text; });
   long rss = 0;
   fs::remove(p.results_file);
   fs::remove(p.results_file + ".timeout");
   bool timed_out = false;
   const int code = spawn({o.executable, "run", p.spec_file, "--solver", "msd", "--out", p.results_file, "--quiet"},
                          p.log_file, rss, o.point_timeout, &timed_out);
-  if (timed_out) std::ofstream(p.results_file + ".timeout") << o.point_timeout << "\n";
+  if (timed_out)
+    msd::write_file_atomically(p.results_file + ".timeout", [&](std::ostream& f) { f << o.point_timeout << "\n"; });
   if (o.log) {
     std::ostringstream s;
     s << "  point " << p.id << "/" << count << " (rank " << rank << "): h " << p.spacing << ", "
@@ -396,7 +393,7 @@ void run_point(const SweepPoint& p, const std::string& text, const SweepOptions&
     o.log(s.str());
   }
   // Peak memory goes beside the results (rank 0 reads it when merging).
-  std::ofstream(p.results_file + ".rss") << rss << "\n";
+  msd::write_file_atomically(p.results_file + ".rss", [&](std::ostream& f) { f << rss << "\n"; });
   if (!timed_out && (code == 2 || !fs::exists(p.results_file)))
     throw msd::Error("sweep point " + std::to_string(p.id) + " (" + p.spec_file + ") did not run: " +
                      tail_of(p.log_file));

@@ -306,7 +306,9 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
   for (const msd::RigidObstacle& ob : leg.obstacles) obstacle_names.push_back(ob.name);
   sum.values = summarise(std::move(recorded), scene, leg.tendon_names, obstacle_names, leg.joint_space_tets);
   finish_leg_files(sum, scene, in, writer, l.frame_times, dir);
-  if (sum.status == "complete" && cp.every > 0.0) fs::remove(leg_checkpoint_path(dir), ignore);
+  // A completed run's checkpoint (written now, or resumed from) is of no more use.
+  const bool resumed_here = !cp.resume.empty() && fs::equivalent(cp.resume, leg_checkpoint_path(dir), ignore);
+  if (sum.status == "complete" && (cp.every > 0.0 || resumed_here)) fs::remove(leg_checkpoint_path(dir), ignore);
   return sum;
 }
 

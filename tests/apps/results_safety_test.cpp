@@ -273,6 +273,7 @@ TEST(Checkpoint, AResumedRunIsBitIdenticalToAnUninterruptedOne) {
   ASSERT_EQ(r.code, 0) << r.output;
   expect_same_results(dir.file("a.h5"), dir.file("b.h5"));
   EXPECT_EQ(testing_support::read_text(dir.file("a.csv")), testing_support::read_text(dir.file("b.csv")));
+  EXPECT_FALSE(fs::exists(dir.file("b.h5.checkpoint")));  // a completed run resumed from it removes it
   EXPECT_EQ(leftovers(dir.file("")), std::vector<std::string>{});
 }
 
@@ -359,6 +360,6 @@ TEST(Checkpoint, AResumedLegRunIsBitIdenticalToAnUninterruptedOne) {
   const auto jb = nlohmann::json::parse(testing_support::read_text(dir.file("b/summary.json")));
   for (const char* k : {"status", "values", "knee_angle_trajectory_deg", "steps", "frames", "simulated_seconds"})
     EXPECT_EQ(ja.at(k), jb.at(k)) << k;
-  EXPECT_FALSE(fs::exists(dir.file("b/leg.checkpoint")));  // a completed run removes it
+  EXPECT_FALSE(fs::exists(dir.file("b/leg.checkpoint")));  // a completed run resumed from it removes it
   EXPECT_EQ(leftovers(dir.file("")), std::vector<std::string>{});
 }
