@@ -16,6 +16,8 @@
 #include "fem/fem.hpp"
 #include "leg/scene.hpp"
 #include "msd/forces/element_forces.hpp"
+#include "msd/io/interrupt.hpp"
+#include "msd/io/output_lock.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -81,19 +83,42 @@ int report(const bench::Spec& spec, const bench::RunSummary& s) {
   } else {
     print_fem_row(s);
   }
-  std::printf("results: %s (and %s)\n", s.out_path.c_str(),
-              (fs::path(s.out_path).parent_path() / fs::path(s.out_path).stem()).string().append(".csv").c_str());
+  const std::string csv =
+      (fs::path(s.out_path).parent_path() / fs::path(s.out_path).stem()).string().append(".csv");
+  if (s.kept) std::printf("results: %s (and %s)\n", s.out_path.c_str(), csv.c_str());
   if (!s.complete) {
-    std::cerr << "tissuebench run: " << spec.name << " (" << s.solver << ") failed: " << s.failure
-              << "\nthe results written up to the failure are kept in " << s.out_path << " (status: failed)\n";
-    return 1;
+    std::cerr << "tissuebench run: " << spec.name << " (" << s.solver << ") " << (s.interrupted ? "stopped" : "failed")
+              << ": " << s.failure << "\n";
+    if (s.kept)
+      std::cerr << "the results written up to then are kept in " << s.out_path << " (status: failed)\n";
+    else
+      std::cerr << "no results file could be written (" << s.out_path << " is untouched; nothing else was left)\n";
+    return s.interrupted ? msd::interrupted_exit_code(s.interrupted) : 1;
   }
   return 0;
+}
+
+// The files a run writes must not be its inputs (`--out` naming the spec...).
+void refuse_out_over_inputs(const RunArgs& args, const bench::Spec& spec, const std::vector<std::string>& outputs) {
+  std::vector<std::string> inputs{args.spec, args.calibration, args.resume};
+  if (!spec.geometry.file.empty()) inputs.push_back(spec.geometry.file);
+  if (spec.msd && !spec.msd->calibration.empty()) {
+    fs::path file = spec.msd->calibration;
+    if (file.is_relative()) file = fs::path(args.spec).parent_path() / file;
+    inputs.push_back(file.string());
+  }
+  std::vector<std::string> all;
+  for (const std::string& o : outputs) {
+    all.push_back(o);
+    all.push_back((fs::path(o).parent_path() / fs::path(o).stem()).string() + ".csv");
+  }
+  msd::refuse_output_over_inputs("--out", all, inputs);
 }
 
 }  // namespace
 
 int cmd_run(const RunArgs& args) {
+  msd::install_interrupt_handlers();
   bench::Spec spec = bench::load_spec(args.spec);
   if (!args.calibration.empty()) {
     if (!spec.msd) throw msd::Error(args.spec + ": --calibration needs an msd section in the spec");
@@ -102,11 +127,26 @@ int cmd_run(const RunArgs& args) {
                        "override it silently");
     bench::apply_calibration(spec, args.calibration, "--calibration: ");
   }
+  if ((args.checkpoint_every > 0.0 || !args.resume.empty()) && args.solver != "msd")
+    throw msd::Error(std::string(args.resume.empty() ? "--checkpoint-every" : "--resume") +
+                     ": only the msd solver can be checkpointed (the FEM solver's Newton and SUNDIALS IDA state "
+                     "is not saved); use --solver msd");
+  const std::string msd_out =
+      args.solver == "both" ? (fs::path(args.out) / (spec.name + "_msd.h5")).string() : args.out;
+  const std::string fem_out = (fs::path(args.out) / (spec.name + "_fem.h5")).string();
+  bench::Checkpointing cp;
+  cp.every = args.checkpoint_every;
+  cp.resume = args.resume;
+  std::vector<std::string> outputs{args.out};
+  if (args.solver == "both") outputs = {msd_out, fem_out};
+  if (args.checkpoint_every > 0.0 && bench::checkpoint_path_for(args.out) != args.resume)
+    outputs.push_back(bench::checkpoint_path_for(args.out));  // resuming from it rewrites it: fine
+  refuse_out_over_inputs(args, spec, outputs);
   ProgressLine progress(spec.name + " (" + args.solver + ")", !args.quiet && root());
   auto tick = [&](double t, double end) { progress.update(t, end); };
   if (args.solver == "msd") {
     if (!root()) return 0;  // the MSD model runs on one process
-    const bench::RunSummary s = bench::run_msd(spec, args.out, tick);
+    const bench::RunSummary s = bench::run_msd(spec, args.out, tick, cp);
     progress.done();
     return report(spec, s);
   }
@@ -117,11 +157,11 @@ int cmd_run(const RunArgs& args) {
   }
   // both: args.out is a folder holding NAME_msd.h5 and NAME_fem.h5.
   bench::RunSummary m;
-  if (root()) m = bench::run_msd(spec, (fs::path(args.out) / (spec.name + "_msd.h5")).string(), tick);
+  if (root()) m = bench::run_msd(spec, msd_out, tick);
   progress.done();
+  if (m.interrupted) return report(spec, m);
   ProgressLine fem_progress(spec.name + " (fem)", !args.quiet && root());
-  const bench::RunSummary f = bench::run_fem(spec, (fs::path(args.out) / (spec.name + "_fem.h5")).string(),
-                                             [&](double t, double end) { fem_progress.update(t, end); });
+  const bench::RunSummary f = bench::run_fem(spec, fem_out, [&](double t, double end) { fem_progress.update(t, end); });
   fem_progress.done();
   const int a = root() ? report(spec, m) : 0;
   const int b = report(spec, f);

@@ -11,6 +11,8 @@ struct RunArgs {
   std::string spec, out, solver = "msd";
   std::string calibration;  ///< calibration file for the msd solver ("" = the spec's constants)
   bool quiet = false;
+  double checkpoint_every = 0.0;  ///< simulated seconds between checkpoints (msd solver); 0: none
+  std::string resume;             ///< a checkpoint to continue from
 };
 int cmd_run(const RunArgs& args);
 

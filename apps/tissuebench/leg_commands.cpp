@@ -11,6 +11,7 @@
 
 #include "msd/geometry/leg_generator.hpp"
 #include "msd/io/atomic_file.hpp"
+#include "msd/io/interrupt.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -27,6 +28,7 @@ constexpr double kDefaultLegSpacing = 0.0245;
 }  // namespace
 
 int cmd_mesh(const MeshArgs& args) {
+  msd::install_interrupt_handlers();  // SIGINT/SIGTERM: the VTU being written is removed, exit 128+N
   const std::string scene = args.scene.empty() ? std::string(TISSUEBENCH_DATA_DIR) + "/leg/leg.yaml" : args.scene;
   const leg::LegMeshSummary s = leg::mesh_leg_scene(scene, args.out);
   std::printf("%s", leg::format_leg_mesh_summary(s).c_str());
@@ -45,8 +47,13 @@ int cmd_leg(const LegArgs& args) {
     scene.duration = args.duration;
   }
   if (args.obj_every >= 0) scene.obj_every = args.obj_every;
+  msd::install_interrupt_handlers();  // SIGINT/SIGTERM: stop at the next step, leg.h5 marked failed
   ProgressLine progress(scene.name + " (leg)", !args.quiet);
-  const auto runs = leg::run_leg_scene(scene, args.out, [&](double t, double end) { progress.update(t, end); });
+  leg::LegCheckpointing cp;
+  cp.every = args.checkpoint_every;
+  cp.resume = args.resume;
+  const auto runs =
+      leg::run_leg_scene(scene, args.out, [&](double t, double end) { progress.update(t, end); }, cp);
   progress.done();
   int rc = 0;
   for (const auto& r : runs) {
@@ -54,7 +61,10 @@ int cmd_leg(const LegArgs& args) {
     if (r.status != "complete") {
       std::fprintf(stderr, "error: %s%s%s: %s\n", scene.name.c_str(), r.variant.empty() ? "" : " / ",
                    r.variant.c_str(), r.failure.c_str());
-      rc = 1;
+      if (!r.kept) std::fprintf(stderr, "  no leg.h5 could be written (nothing was left in its place)
+");
+      if (rc == 0) rc = 1;
+      if (r.interrupted) rc = msd::interrupted_exit_code(r.interrupted);
     }
   }
   std::printf("written: %s/ (leg.h5, leg.csv, leg.xdmf, skin/frame_*.obj, summary.json)\n", args.out.c_str());
@@ -144,6 +154,9 @@ void add_leg_commands(CLI::App& cli, LegCommands& c) {
                        "msd/data/leg/leg.yaml")
       ->check(CLI::ExistingFile);
   c.mesh_cmd->add_option("--out", c.mesh.out, "Output folder")->capture_default_str();
+  c.mesh_cmd->footer("Files are written whole (a temporary, then a rename); a second mesh run into DIR is refused "
+                     "(exit 2) while the first holds DIR.lock; SIGINT/SIGTERM remove the file being written and "
+                     "exit 128+N (130, 143).");
   c.leg_cmd = cli.add_subcommand(
       "leg", "Run a leg scene (thesis 6): knee, tendons, muscles, collisions, scripted control; writes leg.h5, "
              "leg.xdmf (ParaView), skin OBJ frames and summary.json");
@@ -157,6 +170,19 @@ void add_leg_commands(CLI::App& cli, LegCommands& c) {
   c.leg_cmd->add_option("--obj-every", c.leg.obj_every, "Write the skin as OBJ every n-th frame (0: none)")
       ->check(app::integer_in(0, 1000000000, "frames"));
   c.leg_cmd->add_flag("--quiet", c.leg.quiet, "No progress line");
+  c.leg_cmd->add_option("--checkpoint-every", c.leg.checkpoint_every,
+                        "Write a checkpoint (DIR/leg.checkpoint) every this many simulated seconds; removed when "
+                        "the run completes (not for scenes with variants)")
+      ->check(app::finite_positive("simulated seconds"));
+  c.leg_cmd->add_option("--resume", c.leg.resume,
+                        "Continue from a checkpoint of the same scene and options (results bit-identical to an "
+                        "uninterrupted run)")
+      ->check(CLI::ExistingFile);
+  c.leg_cmd->footer(
+      "Files: leg.h5 and leg.csv are written under temporary names and renamed into place when the run ends "
+      "(complete or failed); a second run into DIR is refused (exit 2) while the first holds DIR.lock. "
+      "SIGINT/SIGTERM stop the run at its next step: leg.h5 is kept marked failed (\"interrupted by signal N at "
+      "t = ...\"), exit 128+N (130, 143).");
   c.geometry_cmd = cli.add_subcommand(
       "leg-geometry", "Generate the parametric leg (skin, femur, lower bone, two muscles, tendon paths) from "
                       "anthropometry scaled by stature and mass: OBJ surfaces and the mesh scene leg.yaml");

@@ -25,6 +25,8 @@ struct LegArgs {
   double duration = 0.0;           ///< > 0: run only this long (s)
   int obj_every = -1;              ///< >= 0: overrides the scene's outputs.obj_every
   bool quiet = false;
+  double checkpoint_every = 0.0;   ///< simulated seconds between checkpoints (DIR/leg.checkpoint); 0: none
+  std::string resume;              ///< a checkpoint to continue from
 };
 /// Runs a leg scene (tissuebench leg SCENE.yaml --out DIR). Exit 1 when the
 /// simulation blew up (its files keep what was written, marked failed).

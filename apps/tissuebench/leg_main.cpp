@@ -8,9 +8,31 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdio>
+#include <cstdlib>
 #include <iostream>
 
+namespace {
+
+int dispatch(int argc, char** argv);
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  const int rc = dispatch(argc, argv);
+  if (tbio::hdf5_damaged()) {
+    // A results file on a full disk could not be closed: shutting HDF5 down
+    // would crash (it retries the close). End here; the temporaries are gone.
+    std::fflush(stdout);
+    std::fflush(stderr);
+    std::_Exit(rc);
+  }
+  return rc;
+}
+
+namespace {
+
+int dispatch(int argc, char** argv) {
   CLI::App cli{"tissuebench (leg only: built without the FEM reference and the validation harness)"};
   cli.set_version_flag("--version", tbio::tissuebench_version() + " (" + tbio::git_revision() + ")");
   cli.require_subcommand(1);
@@ -32,3 +54,5 @@ int main(int argc, char** argv) {
   }
   return 2;
 }
+
+}  // namespace

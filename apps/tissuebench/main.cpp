@@ -11,12 +11,34 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdio>
+#include <cstdlib>
 #include <iostream>
+
+namespace {
+
+int dispatch(int argc, char** argv);
+
+}  // namespace
 
 int main(int argc, char** argv) {
   fem::tune_blas_and_reexec(argv);
   // MPI (for the FEM solver) first; every process parses the same arguments.
   fem::Session session(argc, argv);
+  const int rc = dispatch(argc, argv);
+  if (tbio::hdf5_damaged()) {
+    // A results file on a full disk could not be closed: shutting HDF5 down
+    // would crash (it retries the close). End here; the temporaries are gone.
+    std::fflush(stdout);
+    std::fflush(stderr);
+    std::_Exit(rc);
+  }
+  return rc;
+}
+
+namespace {
+
+int dispatch(int argc, char** argv) {
   CLI::App cli{"tissuebench - the thesis' mass-spring-damper soft-tissue model and its validation harness"};
   cli.set_version_flag("--version", tbio::tissuebench_version() + " (" + tbio::git_revision() + ")");
   cli.require_subcommand(1);
@@ -36,6 +58,18 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--calibration", run.calibration,
                       "Calibration file (tissuebench calibrate) for the msd solver's physical constants")
       ->check(CLI::ExistingFile);
+  run_cmd->add_option("--checkpoint-every", run.checkpoint_every,
+                      "Write a checkpoint (OUT.checkpoint) every this many simulated seconds (msd solver with a "
+                      "fixed-step integrator); removed when the run completes")
+      ->check(app::finite_positive("simulated seconds"));
+  run_cmd->add_option("--resume", run.resume,
+                      "Continue from a checkpoint of the same spec (results bit-identical to an uninterrupted run)")
+      ->check(CLI::ExistingFile);
+  run_cmd->footer(
+      "Files: OUT and its CSV twin are written under temporary names (OUT.partial-PID) and renamed into place "
+      "when the run ends, complete or failed; an existing OUT is untouched until then. A second run to the same "
+      "OUT is refused (exit 2) while the first holds OUT.lock. SIGINT/SIGTERM stop the msd solver at its next "
+      "step: OUT is kept marked failed (\"interrupted by signal N at t = ...\"), exit 128+N (130, 143).");
 
   app::SuiteArgs suite;
   auto* suite_cmd = cli.add_subcommand(
@@ -202,3 +236,5 @@ int main(int argc, char** argv) {
   }
   return 2;
 }
+
+}  // namespace

@@ -3,12 +3,18 @@
 #include "bench/shared_io.hpp"
 #include "tbio/surface_check.hpp"
 
+#include "tbio/checkpoint.hpp"
+#include "msd/io/interrupt.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
+#include <sstream>
+#include <cmath>
 
 namespace bench {
 
@@ -311,13 +317,74 @@ void track_row(RunSummary& s, const SummaryColumns& c, const std::vector<double>
     s.max_inverted = std::max(s.max_inverted, static_cast<int>(row[static_cast<size_t>(c.inverted_elements)]));
 }
 
-RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress& progress) {
-  const MsdSpec& ms = msd_section(spec);
-  const double rss_start = proc_status_mb("VmRSS");
-  MsdProblem p = compile_msd(spec);  // every input error surfaces here, before any file exists
-  const auto parent = std::filesystem::path(out_path).parent_path();
-  if (!parent.empty()) std::filesystem::create_directories(parent);
+std::string checkpoint_path_for(const std::string& out_path) { return out_path + ".checkpoint"; }
 
+namespace {
+
+// What a checkpoint of an MSD run holds besides the results written so far.
+struct MsdCheckpoint {
+  msd::LoopPosition at;
+  double next_frame = 0.0;
+  msd::State state;
+  tbio::ResultsSnapshot results;
+};
+
+// The inputs a checkpoint must match: the spec's text and the constants the
+// run used (a calibration changes them), the mesh by the model's fingerprint.
+std::string run_input_hash(const Spec& spec, const MsdProblem& p) {
+  std::ostringstream o;
+  o << "run\n" << spec.text << "\n";
+  o.precision(17);
+  for (const auto& [k, v] : material_record(spec, p.model)) o << k << "=" << v << "\n";
+  o << "dt=" << p.stepping.dt << " interval=" << p.stepping.output_interval << " integrator="
+    << msd::to_string(p.stepping.integrator) << "\n";
+  return sha256_hex(o.str());
+}
+
+void write_state(tbio::CheckpointWriter& w, const msd::State& st) {
+  w.points(st.x);
+  w.points(st.v);
+  w.number(st.t);
+  w.integer(st.step);
+  w.points(st.a);
+  w.integer(st.a_valid ? 1 : 0);
+}
+
+msd::State read_state(tbio::CheckpointReader& r) {
+  msd::State st;
+  st.x = r.points();
+  st.v = r.points();
+  st.t = r.number();
+  st.step = r.integer();
+  st.a = r.points();
+  st.a_valid = r.integer() != 0;
+  return st;
+}
+
+MsdCheckpoint read_msd_checkpoint(const std::string& path, const Spec& spec, const MsdProblem& p) {
+  tbio::CheckpointReader r(path, "run", run_input_hash(spec, p), tbio::fingerprint(p.model.rest_positions, p.model.mass));
+  MsdCheckpoint c;
+  c.at.step = r.integer();
+  c.at.outputs = r.integer();
+  c.next_frame = r.number();
+  c.state = read_state(r);
+  c.results = r.snapshot();
+  r.finish();
+  if (c.state.x.cols() != p.model.num_nodes() || c.state.v.cols() != p.model.num_nodes())
+    throw msd::Error(path + ": the checkpoint's state does not match the model");
+  return c;
+}
+
+void check_checkpointing(const Spec& spec, const MsdProblem& p, const Checkpointing& cp) {
+  if (!(cp.every >= 0.0) || !std::isfinite(cp.every))
+    throw msd::Error("--checkpoint-every: must be a finite number of simulated seconds > 0");
+  if ((cp.every > 0.0 || !cp.resume.empty()) && p.cvode)
+    throw msd::Error(spec.path + ": msd.integrator 'cvode' cannot be checkpointed or resumed bit-identically (its "
+                                 "step size, order and history live inside CVODE); use a fixed-step integrator");
+}
+
+RunMeta msd_meta(const Spec& spec, const MsdProblem& p) {
+  const MsdSpec& ms = *spec.msd;
   RunMeta meta;
   meta.solver = "msd";
   meta.spec_text = spec.text;
@@ -332,11 +399,10 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
                {"mesh_rule", spec.mesh->rule},
                {"test", test_label(spec.loading.type, spec.loading.platens)}};
   if (!spec.msd->calibration.empty()) meta.text.emplace_back("calibration", spec.msd->calibration);
-  ResultsWriter out(out_path, meta, p.columns);
-  out.set_meta("mesh_counts", "nodes " + std::to_string(p.model.num_nodes()) + ", tets " +
-                                  std::to_string(p.model.num_elements()) + ", cubes " +
-                                  std::to_string(p.sample.cubes));
+  return meta;
+}
 
+RunSummary start_summary(const Spec& spec, const MsdProblem& p, const std::string& out_path) {
   RunSummary s;
   s.name = spec.name;
   s.loading = spec.loading.type;
@@ -348,6 +414,67 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
   s.max_strain = s.max_stress = -1e300;
   s.min_volume_ratio = 1e300;
   s.max_volume_ratio = -1e300;
+  return s;
+}
+
+void add_node_set(ResultsWriter& out, const MsdProblem& p) {
+  std::vector<std::array<double, 3>> pts;
+  for (int n = 0; n < p.model.num_nodes(); ++n)
+    pts.push_back({{p.model.rest_positions(0, n), p.model.rest_positions(1, n), p.model.rest_positions(2, n)}});
+  std::vector<std::vector<int>> tets;
+  for (const auto& t : p.sample.mesh.tets) tets.push_back({t[0], t[1], t[2], t[3]});
+  out.add_point_set("nodes", pts, tets);
+}
+
+// The end of a run: ring-down metrics, timing, then the status (a write
+// failure while finishing leaves nothing and says so).
+void finish_msd_file(ResultsWriter& out, RunSummary& s, const Spec& spec, const MsdProblem& p,
+                     const std::vector<double>& times, const std::vector<double>& tip, double rss_start,
+                     std::clock_t cpu_start) {
+  try {
+    if (loading_info(p.loading).ring_down) {
+      const RingDown rd = analyse_ring_down_after(times, tip, spec.loading.release);  // from the release
+      s.highlights = {{"f1_Hz", rd.frequency}, {"zeta", rd.damping_ratio}};
+      out.set_metric("first_frequency", rd.frequency);
+      out.set_metric("damping_ratio", rd.damping_ratio);
+      out.set_metric("zero_crossings", rd.crossings);
+    }
+    out.set_timing(s.wall_seconds, s.steps, p.stepping.dt, 1);
+    out.set_timing_detail("cpu_seconds", static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC);
+    // Memory of the run: the process peak and the peak above the resident size
+    // before the model was built (the model, its state and the results buffers).
+    const double hwm = proc_status_mb("VmHWM");
+    out.set_timing_detail("peak_rss_mb", hwm);
+    out.set_timing_detail("model_rss_mb", hwm - rss_start);
+    if (s.complete) {
+      out.finish();
+      return;
+    }
+  } catch (const tbio::WriteError& e) {
+    s.complete = false;
+    s.failure = s.failure.empty() ? e.what() : s.failure + "; then " + e.what();
+  }
+  s.kept = out.fail(s.failure);
+}
+
+}  // namespace
+
+RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress& progress, const Checkpointing& cp) {
+  const double rss_start = proc_status_mb("VmRSS");
+  MsdProblem p = compile_msd(spec);  // every input error surfaces here, before any file exists
+  check_checkpointing(spec, p, cp);
+  std::optional<MsdCheckpoint> resumed;
+  if (!cp.resume.empty()) resumed = read_msd_checkpoint(cp.resume, spec, p);
+  const std::string cp_path = cp.path.empty() ? checkpoint_path_for(out_path) : cp.path;
+  const auto parent = std::filesystem::path(out_path).parent_path();
+  if (!parent.empty()) std::filesystem::create_directories(parent);
+
+  ResultsWriter out(out_path, msd_meta(spec, p), p.columns);
+  const msd::InterruptibleSection interruptible;  // SIGINT/SIGTERM: stop at the next step, mark the file
+  out.set_meta("mesh_counts", "nodes " + std::to_string(p.model.num_nodes()) + ", tets " +
+                                  std::to_string(p.model.num_elements()) + ", cubes " +
+                                  std::to_string(p.sample.cubes));
+  RunSummary s = start_summary(spec, p, out_path);
   const auto start = std::chrono::steady_clock::now();
   const std::clock_t cpu_start = std::clock();
   const double end = p.path.end_time();
@@ -355,16 +482,22 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
   const SummaryColumns tracked = summary_columns(p.loading, p.columns);
   const int c_ring_down = info.ring_down ? column_index(p.columns, info.load_series) : -1;
   std::vector<double> times, tip;
-  // /fields: every node's displacement at the field frames.
-  {
-    std::vector<std::array<double, 3>> pts;
-    for (int n = 0; n < p.model.num_nodes(); ++n)
-      pts.push_back({{p.model.rest_positions(0, n), p.model.rest_positions(1, n), p.model.rest_positions(2, n)}});
-    std::vector<std::vector<int>> tets;
-    for (const auto& t : p.sample.mesh.tets) tets.push_back({t[0], t[1], t[2], t[3]});
-    out.add_point_set("nodes", pts, tets);
+  const auto note_row = [&](const std::vector<double>& r) {
+    track_row(s, tracked, r);
+    if (c_ring_down >= 0) {
+      times.push_back(r[0]);
+      tip.push_back(r[static_cast<size_t>(c_ring_down)]);
+    }
+    s.simulated_seconds = r[0];
+  };
+  add_node_set(out, p);  // /fields: every node's displacement at the field frames
+  double next_frame = 0.0, next_checkpoint = cp.every;
+  if (resumed) {
+    out.restore(resumed->results);
+    for (const auto& r : resumed->results.rows) note_row(r);
+    next_frame = resumed->next_frame;
+    if (cp.every > 0.0) next_checkpoint = (std::floor(resumed->state.t / cp.every + 1e-9) + 1.0) * cp.every;
   }
-  double next_frame = 0.0;
   const auto frame = [&](const msd::State& st) {
     if (st.t < next_frame - 1e-9 * p.stepping.dt) return;
     std::vector<std::array<double, 3>> d(static_cast<size_t>(p.model.num_nodes()));
@@ -373,43 +506,45 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
     out.append_frame("nodes", st.t, d);
     next_frame = st.t + spec.output.fields_interval;
   };
+  const std::string input_hash = run_input_hash(spec, p);
+  const std::string model_hash = tbio::fingerprint(p.model.rest_positions, p.model.mass);
   msd::RunStats stats;
   try {
-    const msd::ExperimentHooks hooks = msd_hooks(p, [&](const std::vector<double>& r) {
+    msd::ExperimentHooks hooks = msd_hooks(p, [&](const std::vector<double>& r) {
       out.append(r);
-      track_row(s, tracked, r);
-      if (c_ring_down >= 0) {
-        times.push_back(r[0]);
-        tip.push_back(r[static_cast<size_t>(c_ring_down)]);
-      }
-      s.simulated_seconds = r[0];
+      note_row(r);
       if (progress) progress(r[0], end);
       return true;
     }, frame);
-    stats = integrate_msd(p, hooks);
+    if (cp.every > 0.0)
+      hooks.after_sample = [&](const msd::State& st, long k, long outputs) {
+        if (st.t < next_checkpoint - 1e-9 * p.stepping.dt || k == 0) return;
+        tbio::CheckpointWriter w("run", input_hash, model_hash);
+        w.integer(k);
+        w.integer(outputs);
+        w.number(next_frame);
+        write_state(w, st);
+        w.snapshot(out.snapshot());
+        w.save(cp_path);
+        next_checkpoint = (std::floor(st.t / cp.every + 1e-9) + 1.0) * cp.every;
+      };
+    stats = resumed ? msd::run_experiment(p.model, resumed->state, end, p.size, p.stepping, hooks, &resumed->at)
+                    : integrate_msd(p, hooks);
     s.complete = true;
   } catch (const msd::SimulationFailure& f) {
     s.failure = f.what();
     s.steps = f.step;
+    if (const auto* i = dynamic_cast<const msd::Interrupted*>(&f)) s.interrupted = i->signal;
+  } catch (const msd::Error& e) {  // a write failure (results or checkpoint): stop, keep what can be kept
+    s.failure = e.what();
   }
   s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (s.complete) s.steps = stats.steps;
-  if (info.ring_down) {
-    const RingDown rd = analyse_ring_down_after(times, tip, spec.loading.release);  // from the release
-    s.highlights = {{"f1_Hz", rd.frequency}, {"zeta", rd.damping_ratio}};
-    out.set_metric("first_frequency", rd.frequency);
-    out.set_metric("damping_ratio", rd.damping_ratio);
-    out.set_metric("zero_crossings", rd.crossings);
-  }
-  out.set_timing(s.wall_seconds, s.steps, p.stepping.dt, 1);
-  out.set_timing_detail("cpu_seconds", static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC);
-  // Memory of the run: the process peak and the peak above the resident size
-  // before the model was built (the model, its state and the results buffers).
-  const double hwm = proc_status_mb("VmHWM");
-  out.set_timing_detail("peak_rss_mb", hwm);
-  out.set_timing_detail("model_rss_mb", hwm - rss_start);
-  if (s.complete) out.finish();
-  else out.fail(s.failure);
+  finish_msd_file(out, s, spec, p, times, tip, rss_start, cpu_start);
+  std::error_code ignore;
+  // A completed run's checkpoint (written now, or resumed from) is of no more use.
+  const bool resumed_here = !cp.resume.empty() && std::filesystem::equivalent(cp.resume, cp_path, ignore);
+  if (s.complete && (cp.every > 0.0 || resumed_here)) std::filesystem::remove(cp_path, ignore);
   return s;
 }
 

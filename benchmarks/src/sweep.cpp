@@ -83,9 +83,21 @@ int spawn(const std::vector<std::string>& argv, const std::string& log, long& ma
       if (w == pid) break;
       if (w < 0) throw msd::Error("sweep: lost the child process of " + log);
       if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeout) {
-        kill(pid, SIGKILL);
+        // SIGTERM first: the run stops at its next step and keeps its file
+        // marked failed ("interrupted"); SIGKILL if it has not ended in 10 s.
+        kill(pid, SIGTERM);
         if (timed_out) *timed_out = true;
-        if (wait4(pid, &status, 0, &ru) < 0) throw msd::Error("sweep: lost the child process of " + log);
+        bool ended = false;
+        for (int i = 0; i < 500 && !ended; ++i) {
+          const pid_t e = wait4(pid, &status, WNOHANG, &ru);
+          if (e < 0) throw msd::Error("sweep: lost the child process of " + log);
+          ended = e == pid;
+          if (!ended) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+        if (!ended) {
+          kill(pid, SIGKILL);
+          if (wait4(pid, &status, 0, &ru) < 0) throw msd::Error("sweep: lost the child process of " + log);
+        }
         break;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -350,7 +362,8 @@ bool ran_before(const SweepPoint& p, const std::string& text, const SweepOptions
   try {
     const Results old = read_results(p.results_file);
     const bool same_text = old.meta.count("spec") && old.meta.at("spec") == text;
-    const bool finished = old.status() == "complete" || old.status() == "failed";
+    const bool interrupted = old.meta.count("failure") && old.meta.at("failure").find("interrupted by signal") == 0;
+    const bool finished = old.status() == "complete" || (old.status() == "failed" && !interrupted);
     std::ifstream tf(p.results_file + ".timeout");
     double limit = -1.0;
     const bool same_timeout = (tf >> limit) && std::abs(limit - o.point_timeout) < 1e-9;
@@ -363,18 +376,15 @@ bool ran_before(const SweepPoint& p, const std::string& text, const SweepOptions
 // Runs one point as a child `tissuebench run` (its peak memory and a timeout
 // mark beside its results file); throws when the child could not run.
 void run_point(const SweepPoint& p, const std::string& text, const SweepOptions& o, int rank, size_t count) {
-  {
-    std::ofstream f(p.spec_file);
-    f << text;
-    if (!f) throw msd::Error(p.spec_file + ": cannot write");
-  }
+  msd::write_file_atomically(p.spec_file, [&](std::ostream& f) { f << text; });
   long rss = 0;
   fs::remove(p.results_file);
   fs::remove(p.results_file + ".timeout");
   bool timed_out = false;
   const int code = spawn({o.executable, "run", p.spec_file, "--solver", "msd", "--out", p.results_file, "--quiet"},
                          p.log_file, rss, o.point_timeout, &timed_out);
-  if (timed_out) std::ofstream(p.results_file + ".timeout") << o.point_timeout << "\n";
+  if (timed_out)
+    msd::write_file_atomically(p.results_file + ".timeout", [&](std::ostream& f) { f << o.point_timeout << "\n"; });
   if (o.log) {
     std::ostringstream s;
     s << "  point " << p.id << "/" << count << " (rank " << rank << "): h " << p.spacing << ", "
@@ -383,7 +393,7 @@ void run_point(const SweepPoint& p, const std::string& text, const SweepOptions&
     o.log(s.str());
   }
   // Peak memory goes beside the results (rank 0 reads it when merging).
-  std::ofstream(p.results_file + ".rss") << rss << "\n";
+  msd::write_file_atomically(p.results_file + ".rss", [&](std::ostream& f) { f << rss << "\n"; });
   if (!timed_out && (code == 2 || !fs::exists(p.results_file)))
     throw msd::Error("sweep point " + std::to_string(p.id) + " (" + p.spec_file + ") did not run: " +
                      tail_of(p.log_file));

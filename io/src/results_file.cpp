@@ -2,7 +2,11 @@
 
 #include "tbio/build_info.hpp"
 #include "msd/core/types.hpp"
+#include "msd/io/atomic_file.hpp"
+#include "msd/io/interrupt.hpp"
+#include "msd/io/output_lock.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -18,12 +22,14 @@ std::string git_revision() { return TISSUEBENCH_GIT_REVISION; }
 
 namespace {
 
+bool g_hdf5_damaged = false;
+
 void check(herr_t status, const std::string& what, const std::string& path) {
-  if (status < 0) throw msd::Error(path + ": HDF5 error while " + what);
+  if (status < 0) throw WriteError(path + ": HDF5 error while " + what + " (disk full or file size limit?)");
 }
 
 hid_t check_id(hid_t id, const std::string& what, const std::string& path) {
-  if (id < 0) throw msd::Error(path + ": HDF5 error while " + what);
+  if (id < 0) throw WriteError(path + ": HDF5 error while " + what + " (disk full or file size limit?)");
   return id;
 }
 
@@ -82,8 +88,29 @@ ResultsWriter::ResultsWriter(const std::string& path, const RunMeta& meta,
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported by us
   const std::filesystem::path p(path);
   csv_path_ = (p.parent_path() / p.stem()).string() + ".csv";
-  file_ = check_id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
-                   "creating the file (is the folder writable, or the file open in another program?)", path);
+  lock_ = std::make_unique<msd::OutputLock>(path, msd::this_command_line());
+  tmp_path_ = msd::create_partial(path);
+  tmp_registered_ = std::make_unique<msd::RegisteredTemporary>(tmp_path_);
+  try {
+    tmp_csv_path_ = msd::create_partial(csv_path_);
+  } catch (...) {
+    std::filesystem::remove(tmp_path_);
+    throw;
+  }
+  csv_registered_ = std::make_unique<msd::RegisteredTemporary>(tmp_csv_path_);
+  open_ = true;
+  try {
+    create_layout(meta);
+  } catch (...) {
+    discard();
+    throw;
+  }
+}
+
+void ResultsWriter::create_layout(const RunMeta& meta) {
+  const std::string& path = path_;
+  file_ = check_id(H5Fcreate(tmp_path_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+                   "creating the file (is the folder writable?)", path);
   meta_ = H5Gcreate2(file_, "meta", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   series_ = H5Gcreate2(file_, "series", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   timing_ = H5Gcreate2(file_, "timing", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
@@ -109,38 +136,100 @@ ResultsWriter::ResultsWriter(const std::string& path, const RunMeta& meta,
     const hid_t space = H5Screate_simple(1, dims, maxdims);
     const hid_t props = H5Pcreate(H5P_DATASET_CREATE);
     H5Pset_chunk(props, 1, chunk);
-    const hid_t ds = check_id(H5Dcreate2(series_, col.name.c_str(), H5T_IEEE_F64LE, space,
-                                         H5P_DEFAULT, props, H5P_DEFAULT),
-                              "creating /series/" + col.name, path);
-    write_text_attr(ds, "units", col.units, path);
+    const hid_t ds = H5Dcreate2(series_, col.name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, props, H5P_DEFAULT);
     H5Pclose(props);
     H5Sclose(space);
+    check_id(ds, "creating /series/" + col.name, path);
     datasets_.push_back(ds);
+    write_text_attr(ds, "units", col.units, path);
   }
-  csv_.open(csv_path_);
-  if (!csv_) throw msd::Error(csv_path_ + ": cannot write the CSV copy");
+  csv_.open(tmp_csv_path_, std::ios::trunc);
+  if (!csv_) throw WriteError(csv_path_ + ": cannot write the CSV copy");
   for (size_t c = 0; c < columns_.size(); ++c) csv_ << (c ? "," : "") << columns_[c].name;
   csv_ << '\n' << std::setprecision(10);
-  H5Fflush(file_, H5F_SCOPE_GLOBAL);
-  last_flush_ = std::chrono::steady_clock::now();
+  flush();
 }
 
 ResultsWriter::~ResultsWriter() {
-  try {
-    flush();
-  } catch (...) {
-  }
+  // Left without finish() or fail(): an error ended the run. Keep what was
+  // written, marked failed (or nothing, if even that cannot be written).
+  if (open_) fail("the run stopped before it finished (an error; see the program's message)");
+}
+
+void ResultsWriter::close_handles() {
   for (hid_t d : datasets_) H5Dclose(d);
+  datasets_.clear();
   for (auto& [name, set] : sets_) {
     if (set.time >= 0) H5Dclose(set.time);
     if (set.displacement >= 0) H5Dclose(set.displacement);
+    set.time = set.displacement = -1;
   }
-  if (fields_ >= 0) H5Gclose(fields_);
-  if (metrics_ >= 0) H5Gclose(metrics_);
-  if (timing_ >= 0) H5Gclose(timing_);
-  if (series_ >= 0) H5Gclose(series_);
-  if (meta_ >= 0) H5Gclose(meta_);
-  if (file_ >= 0) H5Fclose(file_);
+  for (hid_t* g : {&fields_, &metrics_, &timing_, &series_, &meta_})
+    if (*g >= 0) {
+      H5Gclose(*g);
+      *g = -1;
+    }
+  if (csv_.is_open()) csv_.close();
+}
+
+void ResultsWriter::discard() {
+  if (file_ >= 0) {
+    // The file is thrown away, but HDF5 flushes its cached metadata when it
+    // closes; on a full disk that fails, the file stays half-closed and HDF5
+    // crashes when it shuts down. Point its descriptor at /dev/null so most
+    // of the close succeeds; if the close still fails (it truncates the file
+    // to its end, which /dev/null refuses), hdf5_damaged() tells the program
+    // to end without shutting HDF5 down.
+    void* handle = nullptr;
+    const hid_t fapl = H5Fget_access_plist(file_);
+    if (fapl >= 0 && H5Fget_vfd_handle(file_, fapl, &handle) >= 0 && handle) {
+      const int null_fd = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+      if (null_fd >= 0) {
+        ::dup2(null_fd, *static_cast<int*>(handle));
+        ::close(null_fd);
+      }
+    }
+    if (fapl >= 0) H5Pclose(fapl);
+  }
+  close_handles();
+  if (file_ >= 0 && H5Fclose(file_) < 0) g_hdf5_damaged = true;
+  file_ = -1;
+  open_ = false;
+  std::error_code ignore;
+  std::filesystem::remove(tmp_path_, ignore);
+  std::filesystem::remove(tmp_csv_path_, ignore);
+  tmp_registered_.reset();
+  csv_registered_.reset();
+  lock_.reset();
+}
+
+void ResultsWriter::commit() {
+  // Everything reaches the disk while the file is open (a failure here is
+  // recoverable: discard()), then the close has nothing left to write.
+  const herr_t flushed = H5Fflush(file_, H5F_SCOPE_GLOBAL);
+  if (csv_.is_open()) csv_.close();
+  if (flushed < 0 || csv_.fail()) {
+    discard();
+    throw WriteError((flushed < 0 ? path_ : csv_path_) + ": write failed while closing (disk full or file size limit?)");
+  }
+  close_handles();
+  const herr_t closed = H5Fclose(file_);
+  file_ = -1;
+  if (closed < 0) {
+    discard();
+    throw WriteError(path_ + ": write failed while closing (disk full or file size limit?)");
+  }
+  try {
+    msd::commit_partial(tmp_csv_path_, csv_path_);
+    msd::commit_partial(tmp_path_, path_);
+  } catch (const msd::Error& e) {
+    discard();
+    throw WriteError(e.what());
+  }
+  open_ = false;
+  tmp_registered_.reset();
+  csv_registered_.reset();
+  lock_.reset();
 }
 
 void ResultsWriter::append(const std::vector<double>& row) {
@@ -157,6 +246,7 @@ void ResultsWriter::append(const std::vector<double>& row) {
 }
 
 void ResultsWriter::flush() {
+  if (!open_) throw WriteError(path_ + ": written to after it was closed");
   const size_t n = pending_.empty() ? 0 : pending_.front().size();
   if (n > 0) {
     const hsize_t old_rows = static_cast<hsize_t>(rows_) - n;
@@ -167,15 +257,16 @@ void ResultsWriter::flush() {
       const hsize_t start[1] = {old_rows}, count[1] = {n};
       H5Sselect_hyperslab(fspace, H5S_SELECT_SET, start, nullptr, count, nullptr);
       const hid_t mspace = H5Screate_simple(1, count, nullptr);
-      check(H5Dwrite(datasets_[c], H5T_NATIVE_DOUBLE, mspace, fspace, H5P_DEFAULT, pending_[c].data()),
-            "writing /series/" + columns_[c].name, path_);
+      const herr_t w = H5Dwrite(datasets_[c], H5T_NATIVE_DOUBLE, mspace, fspace, H5P_DEFAULT, pending_[c].data());
       H5Sclose(mspace);
       H5Sclose(fspace);
-      pending_[c].clear();
+      check(w, "writing /series/" + columns_[c].name, path_);
     }
+    for (auto& p : pending_) p.clear();
   }
-  H5Fflush(file_, H5F_SCOPE_GLOBAL);
+  check(H5Fflush(file_, H5F_SCOPE_GLOBAL), "flushing", path_);
   csv_.flush();
+  if (!csv_) throw WriteError(csv_path_ + ": write failed (disk full or file size limit?)");
   last_flush_ = std::chrono::steady_clock::now();
 }
 
@@ -283,17 +374,68 @@ void ResultsWriter::set_meta(const std::string& key, const std::string& value) {
 }
 
 void ResultsWriter::finish() {
-  flush();
-  write_text_attr(meta_, "status", "complete", path_);
-  H5Fflush(file_, H5F_SCOPE_GLOBAL);
+  try {
+    flush();
+    write_text_attr(meta_, "status", "complete", path_);
+  } catch (...) {
+    discard();
+    throw;
+  }
+  commit();
 }
 
-void ResultsWriter::fail(const std::string& message) {
-  flush();
-  write_text_attr(meta_, "failure", message, path_);
-  write_text_attr(meta_, "status", "failed", path_);
-  H5Fflush(file_, H5F_SCOPE_GLOBAL);
+bool ResultsWriter::fail(const std::string& message) {
+  if (!open_) return false;
+  try {
+    flush();
+    write_text_attr(meta_, "failure", message, path_);
+    write_text_attr(meta_, "status", "failed", path_);
+    commit();
+    return true;
+  } catch (const std::exception&) {
+    if (open_) discard();
+    return false;
+  }
 }
+
+ResultsSnapshot ResultsWriter::snapshot() {
+  flush();
+  ResultsSnapshot s;
+  s.rows.assign(static_cast<size_t>(rows_), std::vector<double>(columns_.size()));
+  std::vector<double> column(static_cast<size_t>(rows_));
+  for (size_t c = 0; c < columns_.size(); ++c) {
+    if (rows_ > 0)
+      check(H5Dread(datasets_[c], H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, column.data()),
+            "reading /series/" + columns_[c].name + " back", path_);
+    for (size_t r = 0; r < column.size(); ++r) s.rows[r][c] = column[r];
+  }
+  for (const auto& [name, set] : sets_) {
+    ResultsSnapshot::Frames& f = s.fields[name];
+    f.time.resize(static_cast<size_t>(set.frames));
+    f.displacement.assign(static_cast<size_t>(set.frames),
+                          std::vector<std::array<double, 3>>(static_cast<size_t>(set.points)));
+    if (set.frames == 0) continue;
+    check(H5Dread(set.time, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, f.time.data()),
+          "reading /fields/" + name + "_time back", path_);
+    if (set.points == 0) continue;
+    std::vector<double> all(static_cast<size_t>(set.frames * set.points * 3));
+    check(H5Dread(set.displacement, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, all.data()),
+          "reading /fields/" + name + "_displacement back", path_);
+    for (size_t k = 0; k < all.size(); ++k)
+      f.displacement[k / static_cast<size_t>(3 * set.points)][(k / 3) % static_cast<size_t>(set.points)][k % 3] =
+          all[k];
+  }
+  return s;
+}
+
+void ResultsWriter::restore(const ResultsSnapshot& s) {
+  for (const auto& row : s.rows) append(row);
+  for (const auto& [name, f] : s.fields)
+    for (size_t k = 0; k < f.time.size(); ++k) append_frame(name, f.time[k], f.displacement[k]);
+  flush();
+}
+
+bool hdf5_damaged() { return g_hdf5_damaged; }
 
 std::string Results::status() const {
   const auto it = meta.find("status");

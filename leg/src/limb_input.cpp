@@ -9,6 +9,8 @@
 #include "msd/mesh/tendon_paths.hpp"
 
 #include <chrono>
+#include "msd/io/output_lock.hpp"
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -183,13 +185,24 @@ MeshedLimb mesh_limb_input(const LimbInput& in) {
 
 LegMeshSummary mesh_leg_scene(const std::string& scene_file, const std::string& out_dir) {
   const auto start = std::chrono::steady_clock::now();
-  // A summary from an earlier run must not outlive a failed one.
-  std::error_code ignore;
-  fs::remove(fs::path(out_dir) / "summary.json", ignore);
   const LimbInput in = read_limb_input(scene_file);
   const msd::LimbSurfaces& surfaces = in.surfaces;
   const msd::LimbMeshOptions& o = in.options;
+  std::vector<std::string> inputs{scene_file}, outputs;
+  for (const auto& [region, file] : surfaces.source) inputs.push_back(file);
+  for (const char* f : {"mesh.vtu", "bone_points.vtu", "tendons.vtu", "summary.json"})
+    outputs.push_back((fs::path(out_dir) / f).string());
+  for (const char* f : {"skin", "upper_bone", "lower_bone", "front_muscle", "back_muscle"})
+    outputs.push_back((fs::path(out_dir) / "surfaces" / (std::string(f) + ".vtu")).string());
+  msd::refuse_output_over_inputs("--out", outputs, inputs);
+  fs::path folder = fs::path(out_dir).lexically_normal();
+  if (folder.filename().empty()) folder = folder.parent_path();
+  if (!folder.parent_path().empty()) fs::create_directories(folder.parent_path());
+  const msd::OutputLock lock(folder.string(), msd::this_command_line());  // one mesh run per folder
   const MeshedLimb limb = mesh_limb_input(in);
+  // A summary from an earlier run must not outlive a failed one.
+  std::error_code ignore;
+  fs::remove(fs::path(out_dir) / "summary.json", ignore);
   const msd::LimbMesh& m = limb.mesh;
   const std::vector<msd::TendonStrands>& tendons = limb.tendons;
 

@@ -81,10 +81,10 @@ void append_frame_fields(tbio::ResultsWriter& writer, const Frame& frame, const 
     writer.append_frame("obstacles", t, displacement(frame.obstacles_x, in.obstacles.vertices));
 }
 
-void write_skin_obj(const std::string& dir, long index, const Frame& frame, const msd::TriangleMesh& skin) {
+void write_skin_obj(const std::string& dir, long index, const msd::Points& skin_x, const msd::TriangleMesh& skin) {
   char name[32];
   std::snprintf(name, sizeof name, "frame_%04ld.obj", index);
-  msd::write_obj((fs::path(dir) / "skin" / name).string(), frame.skin_x, skin.triangles, 6);
+  msd::write_obj((fs::path(dir) / "skin" / name).string(), skin_x, skin.triangles, 6);
 }
 
 void write_xdmf(const std::string& path, const std::string& h5_name, const std::vector<double>& times, long nodes,

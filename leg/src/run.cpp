@@ -8,7 +8,16 @@
 #include "msd/experiments/blowup.hpp"
 #include "leg/session.hpp"
 
+#include "tbio/checkpoint.hpp"
+#include "tbio/series_tools.hpp"
+#include "tbio/sha256.hpp"
+
+#include "msd/io/interrupt.hpp"
+#include "msd/io/output_lock.hpp"
+
 #include <chrono>
+#include <cstdint>
+#include <optional>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -48,18 +57,155 @@ Instruments make_leg_instruments(const CompiledLeg& c, const LegScene& scene) {
   return in;
 }
 
+std::string leg_checkpoint_path(const std::string& dir) { return (fs::path(dir) / "leg.checkpoint").string(); }
+
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-// One variant: step from rest to the scene's duration, recording every output
-// interval; a blow-up ends the run marked failed with what was recorded.
+// The inputs a checkpoint must match: the scene's text and the options that
+// change what a run writes; the limb by the model's fingerprint.
+std::string leg_input_hash(const LegScene& scene, const LegVariant& variant) {
+  std::ostringstream o;
+  o.precision(17);
+  o << "leg\n" << scene.text << "\nvariant=" << variant.name << " duration=" << scene.duration
+    << " obj_every=" << scene.obj_every << " dt=" << scene.dt << " interval=" << scene.output_interval << "\n";
+  return tbio::sha256_hex(o.str());
+}
+
+// Everything the time loop carries from one step to the next, and what was
+// written so far: a checkpoint's content.
+struct LegLoop {
+  long step = 0;
+  msd::LegState state;
+  msd::LegControls controls;
+  bool engaged = false;
+  std::vector<double> frame_times;
+  std::vector<std::pair<double, double>> trajectory;
+  std::vector<std::pair<long, msd::Points>> obj_frames;  ///< (frame index, skin positions) of the OBJ frames
+};
+
+void write_leg_checkpoint(const std::string& path, const std::string& input_hash, const std::string& model_hash,
+                          const LegLoop& l, tbio::ResultsWriter& writer) {
+  tbio::CheckpointWriter w("leg", input_hash, model_hash);
+  w.integer(l.step);
+  const msd::State& t = l.state.tissue;
+  w.points(t.x);
+  w.points(t.v);
+  w.number(t.t);
+  w.integer(t.step);
+  w.points(t.a);
+  w.integer(t.a_valid ? 1 : 0);
+  w.number(l.state.knee.angle);
+  w.number(l.state.knee.velocity);
+  const msd::LegControls& c = l.controls;
+  w.numbers({c.front_activation, c.back_activation, c.joint_torque});
+  w.numbers(c.tendon_length_scale);
+  w.numbers(c.strand_natural_length);
+  w.numbers(c.scripted_knee ? std::vector<double>{c.scripted_knee->angle, c.scripted_knee->velocity}
+                            : std::vector<double>{});
+  auto vec3s = [&](const std::vector<msd::Vec3>& v) {
+    msd::Points p(3, static_cast<Eigen::Index>(v.size()));
+    for (size_t i = 0; i < v.size(); ++i) p.col(static_cast<Eigen::Index>(i)) = v[i];
+    w.points(p);
+  };
+  vec3s(c.obstacle_offset);
+  vec3s(c.obstacle_velocity);
+  w.integer(l.engaged ? 1 : 0);
+  w.numbers(l.frame_times);
+  std::vector<double> traj;
+  for (const auto& [time, angle] : l.trajectory) traj.insert(traj.end(), {time, angle});
+  w.numbers(traj);
+  w.integer(static_cast<std::int64_t>(l.obj_frames.size()));
+  for (const auto& [index, x] : l.obj_frames) {
+    w.integer(index);
+    w.points(x);
+  }
+  w.snapshot(writer.snapshot());
+  w.save(path);
+}
+
+LegLoop read_leg_checkpoint(tbio::CheckpointReader& r, const msd::LegModel& leg, tbio::ResultsSnapshot& results) {
+  LegLoop l;
+  l.step = r.integer();
+  msd::State& t = l.state.tissue;
+  t.x = r.points();
+  t.v = r.points();
+  t.t = r.number();
+  t.step = r.integer();
+  t.a = r.points();
+  t.a_valid = r.integer() != 0;
+  l.state.knee.angle = r.number();
+  l.state.knee.velocity = r.number();
+  msd::LegControls& c = l.controls;
+  const std::vector<double> scalars = r.numbers();
+  c.tendon_length_scale = r.numbers();
+  c.strand_natural_length = r.numbers();
+  const std::vector<double> knee = r.numbers();
+  if (scalars.size() != 3 || (knee.size() != 0 && knee.size() != 2))
+    throw msd::Error(r.path() + ": the checkpoint is damaged (controls)");
+  c.front_activation = scalars[0];
+  c.back_activation = scalars[1];
+  c.joint_torque = scalars[2];
+  if (knee.size() == 2) c.scripted_knee = msd::HingeState{knee[0], knee[1]};
+  for (std::vector<msd::Vec3>* v : {&c.obstacle_offset, &c.obstacle_velocity}) {
+    const msd::Points p = r.points();
+    for (int i = 0; i < p.cols(); ++i) v->push_back(p.col(i));
+  }
+  l.engaged = r.integer() != 0;
+  l.frame_times = r.numbers();
+  const std::vector<double> traj = r.numbers();
+  for (size_t i = 0; i + 1 < traj.size(); i += 2) l.trajectory.emplace_back(traj[i], traj[i + 1]);
+  const std::int64_t objs = r.integer();
+  for (std::int64_t i = 0; i < objs && i < 10000000; ++i) {
+    const long index = static_cast<long>(r.integer());
+    l.obj_frames.emplace_back(index, r.points());
+  }
+  results = r.snapshot();
+  r.finish();
+  if (t.x.cols() != leg.tissue.num_nodes() || t.v.cols() != leg.tissue.num_nodes())
+    throw msd::Error(r.path() + ": the checkpoint's state does not match the leg");
+  return l;
+}
+
+// The files after the loop: leg.h5's status (renamed into place), leg.xdmf,
+// summary.json. A write failure is reported in the summary, never thrown.
+void finish_leg_files(LegRunSummary& sum, const LegScene& scene, const Instruments& in, tbio::ResultsWriter& writer,
+                      const std::vector<double>& frame_times, const std::string& dir) {
+  try {
+    writer.set_timing(sum.wall_seconds, sum.steps, scene.dt, 1);
+    writer.set_timing_detail("wall_per_simulated_second", sum.wall_per_simulated());
+    if (sum.status != "failed") writer.finish();
+  } catch (const msd::Error& e) {
+    sum.status = "failed";
+    sum.failure = sum.failure.empty() ? e.what() : sum.failure + "; then " + e.what();
+  }
+  if (sum.status == "failed") sum.kept = writer.fail(sum.failure);
+  try {
+    if (sum.kept)
+      write_xdmf((fs::path(dir) / "leg.xdmf").string(), "leg.h5", frame_times, sum.nodes, sum.tets,
+                 in.skin->num_vertices(), in.skin->num_triangles(), in.bones.num_vertices(), in.bones.num_triangles());
+    tbio::write_json_file((fs::path(dir) / "summary.json").string(), summary_json(sum, scene));
+  } catch (const msd::Error& e) {
+    sum.status = "failed";
+    sum.failure += (sum.failure.empty() ? "" : "; then ") + std::string(e.what());
+  }
+}
+
+// One variant: step from rest (or a checkpoint) to the scene's duration,
+// recording every output interval; a blow-up, a write failure or a signal
+// ends the run marked failed with what was recorded.
 LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, const msd::LegModel& leg,
                           const Instruments& in, const std::string& dir,
-                          const std::function<void(double, double)>& progress) {
-  std::error_code ignore;
+                          const std::function<void(double, double)>& progress, const LegCheckpointing& cp) {
+  const std::string input_hash = leg_input_hash(scene, variant);
+  const std::string model_hash = tbio::fingerprint(leg.tissue.rest_positions, leg.tissue.mass);
+  std::optional<tbio::CheckpointReader> reader;  // a bad checkpoint is refused before anything is written
+  if (!cp.resume.empty()) reader.emplace(cp.resume, "leg", input_hash, model_hash);
+  tbio::ResultsSnapshot restored;
+  std::optional<LegLoop> resumed;
+  if (reader) resumed = read_leg_checkpoint(*reader, leg, restored);
   fs::create_directories(fs::path(dir) / "skin");
-  fs::remove(fs::path(dir) / "summary.json", ignore);
   LegRunSummary sum;
   sum.name = scene.name;
   sum.variant = variant.name;
@@ -71,16 +217,20 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
   std::vector<tbio::SeriesColumn> cols;
   for (const Sensor& s : sensors) cols.push_back({s.name, s.unit});
   tbio::ResultsWriter writer((fs::path(dir) / "leg.h5").string(), run_meta(scene, variant, leg), cols);
+  std::error_code ignore;
+  fs::remove(fs::path(dir) / "summary.json", ignore);  // an earlier run's summary must not outlive this one
+  const msd::InterruptibleSection interruptible;
   add_rest_geometry(writer, leg, *in.skin, in.bones, in.obstacles);
 
-  msd::LegState state = start_state(leg, scene);
+  LegLoop l;
+  l.state = start_state(leg, scene);
+  l.controls = initial_controls(leg, scene);
+  l.engaged = !scene.tendons_engage_at;
   msd::LegScratch scratch;
-  msd::LegControls controls = initial_controls(leg, scene);
-  bool engaged = !scene.tendons_engage_at;
-  drive(scene, variant, 0.0, scene.dt, controls);
+  drive(scene, variant, 0.0, scene.dt, l.controls);
   {
-    msd::LegState probe = state;  // the step-0 diagnostics (forces at rest) for the first row
-    msd::step_leg(leg, probe, controls, 0.0, scratch);
+    msd::LegState probe = l.state;  // the step-0 diagnostics (forces at rest) for the first row
+    msd::step_leg(leg, probe, l.controls, 0.0, scratch);
   }
 
   // Blow-up limits (msd/experiments/blowup.hpp): the leg's extent as its
@@ -89,88 +239,141 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
   const double size = (rest.rowwise().maxCoeff() - rest.rowwise().minCoeff()).norm();
   msd::BlowUpLimits limits(leg.tissue, size, 10.0);
   const auto check_blow_up = [&]() {
-    double v = std::abs(state.knee.velocity) * size;
-    for (const msd::Vec3& o : controls.obstacle_velocity) v = std::max(v, o.norm());
+    double v = std::abs(l.state.knee.velocity) * size;
+    for (const msd::Vec3& o : l.controls.obstacle_velocity) v = std::max(v, o.norm());
     limits.see_load_speed(v);
-    limits.check(leg.tissue, state.tissue);
+    limits.check(leg.tissue, l.state.tissue);
   };
 
   Recorded recorded;
-  std::vector<double> frame_times;
   Frame frame;
   std::vector<double> row(sensors.size());
+  const bool keep_objs = cp.every > 0.0;
   auto record = [&]() {
-    observe(in, state, scratch, controls, frame);
+    observe(in, l.state, scratch, l.controls, frame);
     for (size_t c = 0; c < sensors.size(); ++c) row[c] = sensors[c].read(frame);
     writer.append(row);
     for (size_t c = 0; c < sensors.size(); ++c) recorded[sensors[c].name].push_back(row[c]);
     append_frame_fields(writer, frame, in);
-    const long index = static_cast<long>(frame_times.size());
-    if (scene.obj_every > 0 && index % scene.obj_every == 0) write_skin_obj(dir, index, frame, *in.skin);
-    const double t = state.tissue.t;
-    frame_times.push_back(t);
+    const long index = static_cast<long>(l.frame_times.size());
+    if (scene.obj_every > 0 && index % scene.obj_every == 0) {
+      write_skin_obj(dir, index, frame.skin_x, *in.skin);
+      if (keep_objs) l.obj_frames.emplace_back(index, frame.skin_x);
+    }
+    const double t = l.state.tissue.t;
+    l.frame_times.push_back(t);
     if (std::fmod(t + 1e-9, 0.2) < 0.5 * scene.output_interval || index == 0)
-      sum.trajectory.emplace_back(t, state.knee.angle / kDeg);
+      l.trajectory.emplace_back(t, l.state.knee.angle / kDeg);
   };
 
   const long steps_per_frame = std::lround(scene.output_interval / scene.dt);
   const long total_steps = std::lround(scene.duration / scene.dt);
+  double next_checkpoint = cp.every;
   const auto start = std::chrono::steady_clock::now();
-  record();
   try {
-    for (long k = 1; k <= total_steps; ++k) {
-      if (!engaged && tendons_due(scene, (k - 1) * scene.dt)) {
-        engage_tendons(leg, state, controls);
-        engaged = true;
+    if (resumed) {
+      l = std::move(*resumed);
+      writer.restore(restored);
+      for (const auto& r : restored.rows)
+        for (size_t c = 0; c < sensors.size() && c < r.size(); ++c) recorded[sensors[c].name].push_back(r[c]);
+      for (const auto& [index, x] : l.obj_frames) write_skin_obj(dir, index, x, *in.skin);
+      if (!keep_objs) l.obj_frames.clear();
+      sum.steps = l.step;
+      if (cp.every > 0.0) next_checkpoint = (std::floor(l.step * scene.dt / cp.every + 1e-9) + 1.0) * cp.every;
+    } else {
+      record();
+    }
+    for (long k = l.step + 1; k <= total_steps; ++k) {
+      msd::throw_if_interrupted((k - 1) * scene.dt, k - 1);
+      if (!l.engaged && tendons_due(scene, (k - 1) * scene.dt)) {
+        engage_tendons(leg, l.state, l.controls);
+        l.engaged = true;
       }
-      drive(scene, variant, k * scene.dt, scene.dt, controls);
-      msd::step_leg(leg, state, controls, scene.dt, scratch);
-      state.tissue.t = k * scene.dt;  // no drift from summing dt
+      drive(scene, variant, k * scene.dt, scene.dt, l.controls);
+      msd::step_leg(leg, l.state, l.controls, scene.dt, scratch);
+      l.state.tissue.t = k * scene.dt;  // no drift from summing dt
+      l.step = k;
+      sum.steps = k;
       if (k % steps_per_frame == 0) {
         check_blow_up();
         record();
+        if (cp.every > 0.0 && l.state.tissue.t >= next_checkpoint - 1e-9 * scene.dt && k < total_steps) {
+          write_leg_checkpoint(leg_checkpoint_path(dir), input_hash, model_hash, l, writer);
+          next_checkpoint = (std::floor(l.state.tissue.t / cp.every + 1e-9) + 1.0) * cp.every;
+        }
       }
-      if (progress && k % 500 == 0) progress(state.tissue.t, scene.duration);
-      sum.steps = k;
+      if (progress && k % 500 == 0) progress(l.state.tissue.t, scene.duration);
     }
   } catch (const msd::SimulationFailure& e) {
     sum.status = "failed";
     sum.failure = e.what();
+    if (const auto* i = dynamic_cast<const msd::Interrupted*>(&e)) sum.interrupted = i->signal;
+  } catch (const msd::Error& e) {  // a write failure (results, OBJ or checkpoint)
+    sum.status = "failed";
+    sum.failure = std::string(e.what()) + " at t = " + tbio::json_number(sum.steps * scene.dt) + " s";
   }
   sum.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   sum.simulated = sum.steps * scene.dt;
-  sum.frames = static_cast<long>(frame_times.size());
-  writer.set_timing(sum.wall_seconds, sum.steps, scene.dt, 1);
-  writer.set_timing_detail("wall_per_simulated_second", sum.wall_per_simulated());
+  sum.frames = static_cast<long>(l.frame_times.size());
+  sum.trajectory = l.trajectory;
 
   std::vector<std::string> obstacle_names;
   for (const msd::RigidObstacle& ob : leg.obstacles) obstacle_names.push_back(ob.name);
   sum.values = summarise(std::move(recorded), scene, leg.tendon_names, obstacle_names, leg.joint_space_tets);
-  if (sum.status == "failed")
-    writer.fail(sum.failure);
-  else
-    writer.finish();
-  write_xdmf((fs::path(dir) / "leg.xdmf").string(), "leg.h5", frame_times, sum.nodes, sum.tets,
-             in.skin->num_vertices(), in.skin->num_triangles(), in.bones.num_vertices(), in.bones.num_triangles());
-  tbio::write_json_file((fs::path(dir) / "summary.json").string(), summary_json(sum, scene));
+  finish_leg_files(sum, scene, in, writer, l.frame_times, dir);
+  // A completed run's checkpoint (written now, or resumed from) is of no more use.
+  const bool resumed_here = !cp.resume.empty() && fs::equivalent(cp.resume, leg_checkpoint_path(dir), ignore);
+  if (sum.status == "complete" && (cp.every > 0.0 || resumed_here)) fs::remove(leg_checkpoint_path(dir), ignore);
   return sum;
+}
+
+// `--out` must not name the scene, its script, its limb or a surface: the
+// files a run writes (every variant's) are checked against them.
+void refuse_outputs_over_inputs(const LegScene& scene, const CompiledLeg& c, const std::string& out_dir) {
+  std::vector<std::string> inputs{scene.file, scene.script_path, scene.geometry};
+  for (const auto& [region, file] : c.input.surfaces.source) inputs.push_back(file);
+  std::vector<std::string> outputs{out_dir, (fs::path(out_dir) / "summary.json").string()};
+  std::vector<std::string> dirs{out_dir};
+  for (const LegVariant& v : scene.variants) dirs.push_back((fs::path(out_dir) / v.name).string());
+  const long frames = std::lround(scene.duration / scene.output_interval) + 1;
+  for (const std::string& d : dirs) {
+    for (const char* f : {"leg.h5", "leg.csv", "leg.xdmf", "summary.json", "leg.checkpoint"})
+      outputs.push_back((fs::path(d) / f).string());
+    for (long k = 0; scene.obj_every > 0 && k < frames; k += scene.obj_every) {
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%04ld.obj", k);
+      outputs.push_back((fs::path(d) / "skin" / name).string());
+    }
+  }
+  msd::refuse_output_over_inputs("--out", outputs, inputs);
 }
 
 }  // namespace
 
 std::vector<LegRunSummary> run_leg_scene(const LegScene& scene, const std::string& out_dir,
-                                         const std::function<void(double, double)>& progress) {
-  fs::create_directories(out_dir);
-  std::error_code ignore;
-  fs::remove(fs::path(out_dir) / "summary.json", ignore);
-  const CompiledLeg c = compile_leg(scene);
+                                         const std::function<void(double, double)>& progress,
+                                         const LegCheckpointing& cp) {
+  if ((cp.every > 0.0 || !cp.resume.empty()) && !scene.variants.empty())
+    throw msd::Error(scene.file + ": variants: a scene with variants cannot be checkpointed (--checkpoint-every, "
+                                  "--resume); run it without, or make each variant a scene of its own");
+  if (!(cp.every >= 0.0) || !std::isfinite(cp.every))
+    throw msd::Error("--checkpoint-every: must be a finite number of simulated seconds > 0");
+  const CompiledLeg c = compile_leg(scene);  // input errors surface here, before anything is written
   const Instruments in = make_leg_instruments(c, scene);
+  refuse_outputs_over_inputs(scene, c, out_dir);
+  const fs::path out(out_dir);
+  if (!out.lexically_normal().parent_path().empty()) fs::create_directories(out.lexically_normal().parent_path());
+  fs::path folder = out.lexically_normal();
+  if (folder.filename().empty()) folder = folder.parent_path();  // "out/leg/" locks out/leg.lock
+  const msd::OutputLock lock(folder.string(), msd::this_command_line());
+  fs::create_directories(out_dir);
   std::vector<LegVariant> variants = scene.variants;
   if (variants.empty()) variants.push_back({"", scene.front_activation, scene.back_activation});
   std::vector<LegRunSummary> summaries;
   for (const LegVariant& variant : variants) {
     const std::string dir = variant.name.empty() ? out_dir : (fs::path(out_dir) / variant.name).string();
-    summaries.push_back(run_variant(scene, variant, c.model, in, dir, progress));
+    summaries.push_back(run_variant(scene, variant, c.model, in, dir, progress, cp));
+    if (summaries.back().interrupted) return summaries;  // the user asked to stop: no further variant
   }
   if (!scene.variants.empty()) write_variants_summary(out_dir, scene, summaries);
   return summaries;

@@ -416,11 +416,13 @@ tendons:
   const std::string tets = summary.substr(at + 8, summary.find(',', at) - at - 8);
   EXPECT_NE(r.output.find("tets               " + tets), std::string::npos) << r.output;
 
-  // Bad scenes: a field name, a missing file, a bone outside the skin. A failed
-  // run into a folder that holds an earlier summary leaves none behind.
+  // Bad scenes: a field name, a missing file, a bone outside the skin. A
+  // refused run into a folder that holds an earlier run touches none of its
+  // files (issue 19: a refused run never touches an existing output).
   std::ofstream(dir.file("typo.yaml")) << replaced(scene, "spacing", "spaceing");
   Result bad = sh("mesh " + dir.file("typo.yaml") + " --out " + dir.file("out"));
-  EXPECT_FALSE(std::filesystem::exists(dir.file("out/summary.json")));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_EQ(slurp(dir.file("out/summary.json")), summary);
   bad = sh("mesh " + dir.file("typo.yaml") + " --out " + dir.file("bad"));
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.output.find("spaceing"), std::string::npos) << bad.output;

@@ -84,6 +84,8 @@ struct RunSummary {
   double min_stress = 0.0, max_stress = 0.0;       ///< Pa
   double min_volume_ratio = 1.0, max_volume_ratio = 1.0;
   int max_inverted = 0;
+  int interrupted = 0;  ///< the signal that stopped the run (SIGINT, SIGTERM), 0 when none
+  bool kept = true;     ///< false when not even a failed file could be written (a full disk)
 };
 
 /// Positions in a loading's /series of what a RunSummary tracks (-1: absent).
@@ -102,9 +104,26 @@ void track_row(RunSummary& s, const SummaryColumns& c, const std::vector<double>
 /// Progress callback: simulated time reached and the run's end time.
 using Progress = std::function<void(double t, double end)>;
 
-/// Runs the spec with the MSD model, writing `out_path` (HDF5) and its CSV twin.
-/// Bad input throws msd::Error before any file is created. A simulation failure
-/// is recorded in the file (status "failed") and returned in the summary.
-RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress& progress = {});
+/// Checkpoints of an MSD run (tbio/checkpoint.hpp).
+struct Checkpointing {
+  double every = 0.0;  ///< simulated seconds between checkpoints; 0: none
+  std::string path;    ///< where they are written; empty: checkpoint_path_for(out)
+  std::string resume;  ///< a checkpoint to continue from; empty: start at t = 0
+};
+/// OUT.checkpoint.
+std::string checkpoint_path_for(const std::string& out_path);
+
+/// Runs the spec with the MSD model, writing `out_path` (HDF5) and its CSV twin
+/// (under temporary names, renamed into place at the end; tbio::ResultsWriter).
+/// Bad input, a bad checkpoint or a busy output throws msd::Error before any
+/// file is created. A simulation failure, a write failure, or SIGINT/SIGTERM
+/// (inside the time loop) is recorded in the file (status "failed") and
+/// returned in the summary (`interrupted`, `kept`). With checkpointing, a
+/// checkpoint is written every `cp.every` simulated seconds (at an output
+/// time) and removed when the run completes; a run resumed from one writes
+/// results bit-identical to an uninterrupted run. The CVODE integrator cannot
+/// be checkpointed (refused).
+RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress& progress = {},
+                   const Checkpointing& cp = {});
 
 }  // namespace bench

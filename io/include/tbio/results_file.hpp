@@ -13,12 +13,20 @@
 //            "nodes" (the MSD nodes, with nodes_tets), "probes" (the FEM
 //            solution at the MSD nodes' rest positions; NaN outside its mesh)
 //
-// The file is created when a run starts with status "running", rows are
-// appended and flushed as the run goes, and the status becomes "complete" or
-// "failed" at the end. A run killed half-way leaves a readable file whose
-// status is still "incomplete": never mistaken for a complete one. A CSV copy of
-// /series is written beside it (same name, .csv) as rows arrive.
+// The file and its CSV copy of /series (same name, .csv) are written under
+// temporary names unique to the process (NAME.h5.partial-PID,
+// NAME.csv.partial-PID) with status "incomplete"; rows are appended and
+// flushed as the run goes; finish() marks it "complete", fail() "failed" with
+// the reason, and both close the files and rename them into place. So the
+// real name only ever holds a finished or a failed run, an existing file is
+// untouched until then, and a process killed half-way (SIGKILL) leaves its
+// readable temporary marked "incomplete" beside it. The writer takes an
+// exclusive lock (NAME.h5.lock, msd/io/output_lock.hpp) for its life: a second
+// writer to the same file is refused. A write that fails (a full disk) throws
+// tbio::WriteError; fail() then keeps what it can or removes the temporaries.
 #pragma once
+
+#include "msd/core/types.hpp"
 
 #include <hdf5.h>
 
@@ -26,11 +34,22 @@
 #include <chrono>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
+namespace msd {
+class OutputLock;
+class RegisteredTemporary;
+}  // namespace msd
+
 namespace tbio {
+
+/// A results file could not be written (disk full, file size limit, I/O error).
+struct WriteError : msd::Error {
+  using msd::Error::Error;
+};
 
 struct SeriesColumn {
   std::string name;
@@ -44,9 +63,20 @@ struct RunMeta {
   std::vector<std::pair<std::string, std::string>> text;  ///< extra /meta attributes
 };
 
+/// What a writer has written so far (every /series value and /fields frame),
+/// carried by a checkpoint so a resumed run writes the same file.
+struct ResultsSnapshot {
+  std::vector<std::vector<double>> rows;
+  struct Frames {
+    std::vector<double> time;
+    std::vector<std::vector<std::array<double, 3>>> displacement;
+  };
+  std::map<std::string, Frames> fields;
+};
+
 class ResultsWriter {
  public:
-  /// Creates (truncates) `path` and its CSV twin.
+  /// Locks `path`, then creates the temporaries of `path` and its CSV twin.
   ResultsWriter(const std::string& path, const RunMeta& meta, std::vector<SeriesColumn> columns);
   ~ResultsWriter();
   ResultsWriter(const ResultsWriter&) = delete;
@@ -68,18 +98,34 @@ class ResultsWriter {
   void append_frame(const std::string& name, double time, const std::vector<std::array<double, 3>>& displacement);
   /// Adds a text attribute to /meta.
   void set_meta(const std::string& key, const std::string& value);
-  /// Marks the run complete (and flushes).
+  /// Marks the run complete, closes the files and renames them into place.
+  /// Throws WriteError (the temporaries removed) when that cannot be done.
   void finish();
-  /// Marks the run failed with `message`, keeping every row written so far.
-  void fail(const std::string& message);
+  /// Marks the run failed with `message`, keeping every row written so far,
+  /// closes and renames into place. Never throws: returns false when the file
+  /// could not be written (a full disk); then the temporaries are removed and
+  /// nothing is left.
+  bool fail(const std::string& message);
+  /// Everything written so far (flushes first).
+  ResultsSnapshot snapshot();
+  /// Appends the rows and frames of `s` (the point sets must exist).
+  void restore(const ResultsSnapshot& s);
 
   long rows() const { return rows_; }
   const std::string& path() const { return path_; }
   const std::string& csv_path() const { return csv_path_; }
+  const std::string& temporary_path() const { return tmp_path_; }
 
  private:
   void flush();
-  std::string path_, csv_path_;
+  void create_layout(const RunMeta& meta);
+  void close_handles();
+  void discard();
+  void commit();
+  std::string path_, csv_path_, tmp_path_, tmp_csv_path_;
+  std::unique_ptr<msd::OutputLock> lock_;
+  std::unique_ptr<msd::RegisteredTemporary> tmp_registered_, csv_registered_;
+  bool open_ = false;
   std::vector<SeriesColumn> columns_;
   hid_t file_ = -1, meta_ = -1, series_ = -1, timing_ = -1, metrics_ = -1, fields_ = -1;
   struct PointSet {
@@ -121,6 +167,12 @@ PointSetData read_point_set(const std::string& path, const std::string& name);
 /// Reads a results file. Throws msd::Error naming the file on a missing file or
 /// a layout that does not match.
 Results read_results(const std::string& path);
+
+/// True when a results file on a full disk could not even be closed: HDF5's
+/// state is then damaged and shutting it down (at exit, or in MPI_Finalize)
+/// would crash. The program then ends with std::_Exit after flushing its
+/// output (apps/tissuebench/main.cpp).
+bool hdf5_damaged();
 
 /// Library versions used in the metadata.
 std::string tissuebench_version();

@@ -30,7 +30,7 @@ void add_rest_geometry(tbio::ResultsWriter& writer, const msd::LegModel& model, 
 void append_frame_fields(tbio::ResultsWriter& writer, const Frame& frame, const Instruments& in);
 
 /// DIR/skin/frame_NNNN.obj: the embedded skin of frame `index` (micrometres).
-void write_skin_obj(const std::string& dir, long index, const Frame& frame, const msd::TriangleMesh& skin);
+void write_skin_obj(const std::string& dir, long index, const msd::Points& skin_x, const msd::TriangleMesh& skin);
 
 /// XDMF for ParaView: the tets, the skin and the bones (bone_vertices > 0),
 /// each frame's geometry the rest points plus that frame's displacement (a

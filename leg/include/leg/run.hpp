@@ -17,6 +17,8 @@ namespace leg {
 /// The summary of one run (one variant): what summary.json holds.
 struct LegRunSummary {
   std::string name, variant, dir, status = "complete", failure;
+  int interrupted = 0;  ///< the signal that stopped the run (SIGINT, SIGTERM), 0 when none
+  bool kept = true;     ///< false when not even a failed leg.h5 could be written (a full disk)
   double simulated = 0.0, wall_seconds = 0.0;
   long steps = 0, frames = 0, nodes = 0, tets = 0;
   /// Scalar results by name (knee angles in degrees, areas in m^2, ...).
@@ -26,12 +28,28 @@ struct LegRunSummary {
   double wall_per_simulated() const { return simulated > 0.0 ? wall_seconds / simulated : 0.0; }
 };
 
-/// Runs every variant of the scene (or the scene once) into out_dir. A blow-up
-/// is not thrown: its run's summary says failed, when, where and why, and its
-/// files keep every frame written before it. `progress(t, end)` is called
-/// now and then.
+/// Checkpoints of a leg run (tbio/checkpoint.hpp): DIR/leg.checkpoint every
+/// `every` simulated seconds (at a recorded frame), removed when the run
+/// completes; `resume` continues from one (bit-identical results).
+struct LegCheckpointing {
+  double every = 0.0;
+  std::string resume;
+};
+
+/// The checkpoint file of a run into `dir`: DIR/leg.checkpoint.
+std::string leg_checkpoint_path(const std::string& dir);
+
+/// Runs every variant of the scene (or the scene once) into out_dir, holding
+/// the lock OUT_DIR.lock (a second run into it is refused). A blow-up, a write
+/// failure or SIGINT/SIGTERM is not thrown: its run's summary says failed,
+/// when, where and why (`interrupted`: the signal; later variants are not
+/// run), and its files keep every frame written before it. leg.h5 and its CSV
+/// are written under temporary names and renamed into place at the end (an
+/// existing run's files are untouched until then). `progress(t, end)` is
+/// called now and then. Checkpointing is refused for scenes with variants.
 std::vector<LegRunSummary> run_leg_scene(const LegScene& scene, const std::string& out_dir,
-                                         const std::function<void(double, double)>& progress = {});
+                                         const std::function<void(double, double)>& progress = {},
+                                         const LegCheckpointing& cp = {});
 
 /// The lines the command prints for a run.
 std::string format_leg_summary(const LegRunSummary& s);

@@ -2,6 +2,7 @@
 
 #include "msd/experiments/blowup.hpp"
 #include "msd/forces/element_forces.hpp"
+#include "msd/io/interrupt.hpp"
 
 #include <cmath>
 #include <set>
@@ -96,25 +97,29 @@ Vec3 applied_force(const Model& model, const Scratch& scratch, double load_scale
 }
 
 RunStats run_experiment(const Model& model, State state, double end_time, double size,
-                        const TimeSteppingOptions& opt, const ExperimentHooks& hooks) {
+                        const TimeSteppingOptions& opt, const ExperimentHooks& hooks, const LoopPosition* resume) {
   if (!(opt.dt > 0.0) || !std::isfinite(opt.dt)) throw Error("time step dt must be positive");
   if (!(opt.output_interval > 0.0)) throw Error("output interval must be positive");
   Scratch scratch;
-  apply_constraints(model, hooks.controls(0.0), state);
+  if (!resume) apply_constraints(model, hooks.controls(0.0), state);
   RunStats stats;
   const long total_steps = static_cast<long>(std::ceil(end_time / opt.dt - 1e-9));
   BlowUpLimits limits(model, size, opt.blowup_factor);
-  double next_output = 0.0;
-  long output_index = 0;
-  for (long k = 0;; ++k) {
+  long output_index = resume ? resume->outputs : 0;
+  double next_output = output_index * opt.output_interval;
+  const long first = resume ? resume->step : 0;
+  if (resume) stats.steps = first;
+  for (long k = first;; ++k) {
     const double t = k * opt.dt;
     state.t = t;  // avoid drift from repeated addition
-    if (t >= next_output - 1e-12 * opt.dt || k == total_steps) {
+    throw_if_interrupted(t, state.step);
+    if ((t >= next_output - 1e-12 * opt.dt || k == total_steps) && !(resume && k == first)) {
       limits.see_load_speed(load_speed(hooks.controls(t)));
       limits.check(model, state);
       if (!hooks.sample(state, scratch)) break;
       ++output_index;
       next_output = output_index * opt.output_interval;
+      if (hooks.after_sample) hooks.after_sample(state, k, output_index);
     }
     if (k == total_steps) break;
     step(model, state, hooks.controls((k + 1) * opt.dt), opt.dt, opt.integrator, scratch);

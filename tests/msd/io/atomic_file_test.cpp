@@ -12,6 +12,11 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <csignal>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -58,17 +63,51 @@ TEST(AtomicFile, AnUnwritableFolderIsAnErrorNamingThePath) {
   }
 }
 
-TEST(AtomicFile, AFullDiskIsAWriteFailureAndLeavesNothing) {
-  // /dev/full accepts the open and fails every write with ENOSPC.
-  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
-  const std::string dir = folder("full");
-  const std::string path = dir + "/out.txt";
-  fs::create_symlink("/dev/full", msd::partial_path(path));
+TEST(AtomicFile, AFullDiskIsAWriteFailureAndLeavesTheOldFileAndNoTemporary) {
+  // A file size limit makes writes fail with EFBIG, as a full disk does (ENOSPC).
+  const std::string path = folder("full") + "/out.txt";
+  std::ofstream(path) << "old";
+  struct rlimit old {};
+  getrlimit(RLIMIT_FSIZE, &old);
+  const auto previous = signal(SIGXFSZ, SIG_IGN);
+  struct rlimit small = old;
+  small.rlim_cur = 4096;
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+  std::string message;
   try {
-    msd::write_file_atomically(path, [](std::ostream& out) { out << std::string(1 << 16, 'x'); });
-    ADD_FAILURE() << "a write to a full device succeeded";
+    msd::write_file_atomically(path, [](std::ostream& out) { out << std::string(1 << 20, 'x'); });
   } catch (const msd::Error& e) {
-    EXPECT_NE(std::string(e.what()).find(path + ": write failed"), std::string::npos) << e.what();
+    message = e.what();
   }
-  EXPECT_FALSE(fs::exists(path));
+  setrlimit(RLIMIT_FSIZE, &old);
+  signal(SIGXFSZ, previous);
+  EXPECT_NE(message.find(path + ": write failed"), std::string::npos) << message;
+  EXPECT_EQ(read_text(path), "old");
+  EXPECT_FALSE(fs::exists(msd::partial_path(path)));
+}
+
+TEST(AtomicFile, TheTemporaryIsUniqueToTheProcessAndALeftoverIsReplaced) {
+  const std::string path = folder("unique") + "/out.txt";
+  EXPECT_EQ(msd::partial_path(path), path + ".partial-" + std::to_string(getpid()));
+  // A leftover of a dead process that had our pid (a symbolic link, even) is
+  // replaced, never written through.
+  const std::string target = folder("unique_target") + "/victim.txt";
+  std::ofstream(target) << "victim";
+  fs::create_symlink(target, msd::partial_path(path));
+  msd::write_file_atomically(path, [](std::ostream& out) { out << "new"; });
+  EXPECT_EQ(read_text(path), "new");
+  EXPECT_EQ(read_text(target), "victim");
+  // Two processes writing the same file at once each write their own temporary.
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    for (int i = 0; i < 200; ++i) msd::write_file_atomically(path, [](std::ostream& out) { out << std::string(5000, 'c'); });
+    _exit(0);
+  }
+  for (int i = 0; i < 200; ++i) msd::write_file_atomically(path, [](std::ostream& out) { out << std::string(5000, 'p'); });
+  int status = 0;
+  waitpid(child, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  const std::string text = read_text(path);
+  EXPECT_TRUE(text == std::string(5000, 'c') || text == std::string(5000, 'p')) << "a mixed file of " << text.size();
 }

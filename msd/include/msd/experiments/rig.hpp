@@ -75,13 +75,27 @@ struct ExperimentHooks {
   /// Called at t = 0, every output interval and at the end, with the state and
   /// scratch (evaluate forces into it as needed); false stops the run.
   std::function<bool(const State&, Scratch&)> sample;
+  /// Optional: called after each sample with the loop's position (the step
+  /// index k of `state` and the outputs taken so far) - where a checkpoint is written.
+  std::function<void(const State&, long step, long outputs)> after_sample;
+};
+
+/// Where run_experiment continues from a checkpoint: `state` is the state at
+/// step `step`, already sampled, with `outputs` outputs taken.
+struct LoopPosition {
+  long step = 0;
+  long outputs = 0;
 };
 
 /// Integrates from `initial` to end_time. Throws SimulationFailure on a
 /// non-finite value or a blow-up (BlowUpLimits, checked at every output: a
 /// node farther than blowup_factor * size, too fast, or too much kinetic
-/// energy).
+/// energy), msd::Interrupted at the next step after SIGINT/SIGTERM
+/// (msd/io/interrupt.hpp). With `resume`, `initial` is a checkpoint's state at
+/// resume->step (not constrained again, not sampled again) and the run
+/// continues bit-identically.
 RunStats run_experiment(const Model& model, State initial, double end_time, double size,
-                        const TimeSteppingOptions& options, const ExperimentHooks& hooks);
+                        const TimeSteppingOptions& options, const ExperimentHooks& hooks,
+                        const LoopPosition* resume = nullptr);
 
 }  // namespace msd

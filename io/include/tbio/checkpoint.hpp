@@ -1,0 +1,65 @@
+// Checkpoints of a run (`tissuebench run|leg --checkpoint-every S`, `--resume
+// FILE`): a binary file holding a header - magic "TBCHECKP", format version,
+// the kind of run ("run" or "leg"), the SHA-256 of its inputs and of its
+// compiled model - then what the runner needs to continue bit-identically:
+// its loop position and state, its accumulators, and a copy of every result
+// written so far (ResultsSnapshot). Written whole-or-nothing (a temporary and
+// a rename, msd/io/atomic_file.hpp); a checkpoint of another input, another
+// kind or another version is refused with a message naming the file.
+#pragma once
+
+#include "tbio/results_file.hpp"
+
+#include "msd/core/types.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tbio {
+
+constexpr std::uint32_t kCheckpointVersion = 1;
+
+class CheckpointWriter {
+ public:
+  CheckpointWriter(const std::string& kind, const std::string& input_hash, const std::string& model_hash);
+  void integer(std::int64_t v);
+  void number(double v);
+  void numbers(const std::vector<double>& v);
+  void text(const std::string& s);
+  void points(const msd::Points& p);
+  void snapshot(const ResultsSnapshot& s);
+  /// Writes the file (whole or nothing). Throws msd::Error naming it.
+  void save(const std::string& path) const;
+
+ private:
+  std::string bytes_;
+};
+
+class CheckpointReader {
+ public:
+  /// Reads `path` and checks its header against this run; throws msd::Error
+  /// naming the file and what differs.
+  CheckpointReader(const std::string& path, const std::string& kind, const std::string& input_hash,
+                   const std::string& model_hash);
+  std::int64_t integer();
+  double number();
+  std::vector<double> numbers();
+  std::string text();
+  msd::Points points();
+  ResultsSnapshot snapshot();
+  /// Throws unless every byte was read.
+  void finish() const;
+  const std::string& path() const { return path_; }
+
+ private:
+  void take(void* out, size_t n);
+  std::string path_, bytes_;
+  size_t at_ = 0;
+};
+
+/// SHA-256 of a model's defining arrays (rest positions, masses), so a resume
+/// against a differently meshed or built model is refused.
+std::string fingerprint(const msd::Points& rest_positions, const Eigen::VectorXd& mass);
+
+}  // namespace tbio
