@@ -201,11 +201,12 @@ std::string quoted(const std::string& s) {
 
 void write_baseline(const Baseline& b, const std::string& path) {
   msd::write_file_atomically(path, [&](std::ostream& out) {
-    out << "# tissuebench regression baseline - written by `tissuebench check --update`; edit tolerances by hand\n"
-        << "# (and say why in `basis`). Tolerances: accuracy errors, FEM verification values and leg outcomes are\n"
-        << "# deterministic (bit-identical run to run) and held to 1 % relative; cost_ratio (msd/fem CPU cost in\n"
-        << "# the same run) relative, from the spread measured over repeated runs. The rule: benchmarks/README.md,\n"
-        << "# \"The regression guard\".\n"
+    out << "# tissuebench regression baseline - written by `tissuebench check --update` (from several runs:\n"
+        << "# tolerances from their measured spread); edit tolerances by hand and say why in `basis`.\n"
+        << "# Accuracy errors, FEM verification values and leg outcomes are deterministic (bit-identical run to\n"
+        << "# run): 1 % relative. Speed: cost/*.cost_ratio_geomean, the geometric mean of the MSD/FEM CPU cost\n"
+        << "# ratios measured in the same run, max(10 %, 2 x the measured spread). Rule and figures:\n"
+        << "# benchmarks/README.md, \"The regression guard\".\n"
         << "tier: " << (b.tier.empty() ? "custom" : b.tier) << "\nmetrics:\n";
     for (const auto& [k, e] : b.metrics) {
       out << "  " << k << ": {value: " << json_number(e.value, 10) << ", tolerance: " << json_number(e.tolerance, 4)
