@@ -97,6 +97,64 @@ void require_finite(const std::vector<double>& v, const std::string& name, const
                        " s) is not finite; a complete run holds only finite samples");
 }
 
+// The displacement field at the MSD nodes against the FEM solution there
+// (/fields/nodes against /fields/probes, frames matched by time).
+void compare_field(const std::string& msd_file, const std::string& fem_file, Comparison& c) {
+  const PointSetData a = read_point_set(msd_file, "nodes"), b = read_point_set(fem_file, "probes");
+  if (a.points.size() != b.points.size())
+    throw msd::Error("compare: " + fem_file + " holds the FEM solution at " + std::to_string(b.points.size()) +
+                     " points, " + msd_file + " has " + std::to_string(a.points.size()) + " nodes");
+  for (size_t i = 0; i < a.points.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(a.points[i][static_cast<size_t>(k)] - b.points[i][static_cast<size_t>(k)]) > 1e-12)
+        throw msd::Error("compare: the FEM probe points are not the MSD nodes (point " + std::to_string(i) + ")");
+  double umax = 0.0, sum = 0.0, emax = 0.0;
+  long count = 0;
+  for (size_t fb = 0; fb < b.time.size(); ++fb) {
+    size_t fa = 0;
+    double best = 1e300;
+    for (size_t k = 0; k < a.time.size(); ++k)
+      if (std::abs(a.time[k] - b.time[fb]) < best) {
+        best = std::abs(a.time[k] - b.time[fb]);
+        fa = k;
+      }
+    if (best > 1e-6) continue;
+    ++c.frames_compared;
+    long outside = 0;
+    for (size_t i = 0; i < b.points.size(); ++i) {
+      const auto& uf = b.displacement[fb][i];
+      const auto& um = a.displacement[fa][i];
+      // A probe outside the FEM mesh is NaN in all three components (legitimately);
+      // anything else non-finite is refused.
+      if (std::isnan(uf[0]) && std::isnan(uf[1]) && std::isnan(uf[2])) {
+        ++outside;
+        continue;
+      }
+      for (int k = 0; k < 3; ++k) {
+        if (!std::isfinite(uf[static_cast<size_t>(k)]))
+          throw msd::Error("compare: " + fem_file + ": /fields/probes_displacement frame " + std::to_string(fb + 1) +
+                           ", point " + std::to_string(i + 1) +
+                           " is not finite in some components only (a probe outside the mesh is NaN in all three)");
+        if (!std::isfinite(um[static_cast<size_t>(k)]))
+          throw msd::Error("compare: " + msd_file + ": /fields/nodes_displacement frame " + std::to_string(fa + 1) +
+                           ", node " + std::to_string(i + 1) + " is not finite");
+      }
+      const double e2 = (um[0] - uf[0]) * (um[0] - uf[0]) + (um[1] - uf[1]) * (um[1] - uf[1]) +
+                        (um[2] - uf[2]) * (um[2] - uf[2]);
+      umax = std::max(umax, std::sqrt(uf[0] * uf[0] + uf[1] * uf[1] + uf[2] * uf[2]));
+      sum += e2;
+      emax = std::max(emax, std::sqrt(e2));
+      ++count;
+    }
+    c.nodes_outside = outside;
+    c.nodes_compared = static_cast<long>(b.points.size()) - outside;
+  }
+  if (count > 0 && umax > 0.0) {
+    c.displacement_rel_rms = std::sqrt(sum / count) / umax;
+    c.displacement_rel_max = emax / umax;
+  }
+}
+
 }  // namespace
 
 std::string load_series_name(Loading loading) { return loading_info(loading).load_series; }
@@ -177,61 +235,8 @@ Comparison compare_results(const std::string& msd_file, const std::string& fem_f
   if (nw > 0 && sum_fw > 0) c.load_rel_rms_working = std::sqrt(sum_dw / sum_fw);
 
   // Displacement field at the MSD nodes.
-  if (displacement_field && m.point_sets.count("nodes") && f.point_sets.count("probes")) {
-    const PointSetData a = read_point_set(msd_file, "nodes"), b = read_point_set(fem_file, "probes");
-    if (a.points.size() != b.points.size())
-      throw msd::Error("compare: " + fem_file + " holds the FEM solution at " + std::to_string(b.points.size()) +
-                       " points, " + msd_file + " has " + std::to_string(a.points.size()) + " nodes");
-    for (size_t i = 0; i < a.points.size(); ++i)
-      for (int k = 0; k < 3; ++k)
-        if (std::abs(a.points[i][static_cast<size_t>(k)] - b.points[i][static_cast<size_t>(k)]) > 1e-12)
-          throw msd::Error("compare: the FEM probe points are not the MSD nodes (point " + std::to_string(i) + ")");
-    double umax = 0.0, sum = 0.0, emax = 0.0;
-    long count = 0;
-    for (size_t fb = 0; fb < b.time.size(); ++fb) {
-      size_t fa = 0;
-      double best = 1e300;
-      for (size_t k = 0; k < a.time.size(); ++k)
-        if (std::abs(a.time[k] - b.time[fb]) < best) {
-          best = std::abs(a.time[k] - b.time[fb]);
-          fa = k;
-        }
-      if (best > 1e-6) continue;
-      ++c.frames_compared;
-      long outside = 0;
-      for (size_t i = 0; i < b.points.size(); ++i) {
-        const auto& uf = b.displacement[fb][i];
-        const auto& um = a.displacement[fa][i];
-        // A probe outside the FEM mesh is NaN in all three components (legitimately);
-        // anything else non-finite is refused.
-        if (std::isnan(uf[0]) && std::isnan(uf[1]) && std::isnan(uf[2])) {
-          ++outside;
-          continue;
-        }
-        for (int k = 0; k < 3; ++k) {
-          if (!std::isfinite(uf[static_cast<size_t>(k)]))
-            throw msd::Error("compare: " + fem_file + ": /fields/probes_displacement frame " + std::to_string(fb + 1) +
-                             ", point " + std::to_string(i + 1) +
-                             " is not finite in some components only (a probe outside the mesh is NaN in all three)");
-          if (!std::isfinite(um[static_cast<size_t>(k)]))
-            throw msd::Error("compare: " + msd_file + ": /fields/nodes_displacement frame " + std::to_string(fa + 1) +
-                             ", node " + std::to_string(i + 1) + " is not finite");
-        }
-        const double e2 = (um[0] - uf[0]) * (um[0] - uf[0]) + (um[1] - uf[1]) * (um[1] - uf[1]) +
-                          (um[2] - uf[2]) * (um[2] - uf[2]);
-        umax = std::max(umax, std::sqrt(uf[0] * uf[0] + uf[1] * uf[1] + uf[2] * uf[2]));
-        sum += e2;
-        emax = std::max(emax, std::sqrt(e2));
-        ++count;
-      }
-      c.nodes_outside = outside;
-      c.nodes_compared = static_cast<long>(b.points.size()) - outside;
-    }
-    if (count > 0 && umax > 0.0) {
-      c.displacement_rel_rms = std::sqrt(sum / count) / umax;
-      c.displacement_rel_max = emax / umax;
-    }
-  }
+  if (displacement_field && m.point_sets.count("nodes") && f.point_sets.count("probes"))
+    compare_field(msd_file, fem_file, c);
 
   auto cost = [](const Results& r, const char* key) {
     if (!r.timing.count(key) || !r.series.count("time") || r.series.at("time").empty())
