@@ -312,7 +312,32 @@ int cmd_compare(const CompareArgs& args) {
 
 int cmd_check(const CheckArgs& args) {
   if (!root()) return 0;
-  const std::map<std::string, double> metrics = bench::collect_metrics(args.dir);
+  if (args.dirs.size() > 1 && !args.update)
+    throw msd::Error("check: several folders are for --update (a baseline from repeated runs); check one at a time");
+  if (args.update && args.dirs.size() > 1) {
+    std::vector<std::map<std::string, double>> runs;
+    for (const auto& d : args.dirs) runs.push_back(bench::collect_metrics(d));
+    bench::Baseline old;
+    if (args.tier.empty() && fs::exists(args.baseline)) old = bench::read_baseline(args.baseline);
+    std::vector<bench::Spread> spreads;
+    std::vector<std::string> changes;
+    const bench::Baseline b =
+        bench::baseline_from_runs(runs, args.tier.empty() ? old.tier : args.tier, spreads, changes);
+    if (b.metrics.empty()) throw msd::Error("check --update: no metric is present in every folder");
+    bench::write_baseline(b, args.baseline);
+    std::printf("baseline %s from %zu runs: %zu metrics, tolerances from the measured spread\n", args.baseline.c_str(),
+                runs.size(), b.metrics.size());
+    std::printf("  %-64s %14s %14s %10s %10s\n", "metric", "min", "max", "spread %", "tol %");
+    for (const auto& s : spreads)
+      std::printf("  %-64s %14.8g %14.8g %10.4g %10.4g\n", s.key.c_str(), s.min, s.max, 100.0 * s.relative(),
+                  100.0 * b.metrics.at(s.key).tolerance);
+    for (const auto& c : changes) std::printf("  %s\n", c.c_str());
+    return 0;
+  }
+  const std::string& dir = args.dirs.at(0);
+  // A malformed baseline is bad input whatever the folder holds: read it first.
+  const bench::Baseline baseline = args.update ? bench::Baseline{} : bench::read_baseline(args.baseline);
+  const std::map<std::string, double> metrics = bench::collect_metrics(dir);
   if (args.update) {
     bench::Baseline old;
     if (fs::exists(args.baseline)) old = bench::read_baseline(args.baseline);
@@ -320,20 +345,20 @@ int cmd_check(const CheckArgs& args) {
     std::vector<std::string> changes;
     const bench::Baseline b = bench::updated_baseline(metrics, old, changes);
     bench::write_baseline(b, args.baseline);
-    std::printf("baseline %s updated from %s: %zu metrics, %zu changes\n", args.baseline.c_str(), args.dir.c_str(),
+    std::printf("baseline %s updated from %s: %zu metrics, %zu changes\n", args.baseline.c_str(), dir.c_str(),
                 b.metrics.size(), changes.size());
     for (const auto& c : changes) std::printf("  %s\n", c.c_str());
     return 0;
   }
-  const bench::GuardReport r = bench::check_metrics(metrics, bench::read_baseline(args.baseline));
+  const bench::GuardReport r = bench::check_metrics(metrics, baseline);
   for (const auto& n : r.notes) std::printf("  note: %s\n", n.c_str());
   if (r.ok()) {
-    std::printf("check: all %d baseline metrics hold (%s against %s)\n", r.checked, args.dir.c_str(),
+    std::printf("check: all %d baseline metrics hold (%s against %s)\n", r.checked, dir.c_str(),
                 args.baseline.c_str());
     return 0;
   }
   std::printf("check: %zu of %d baseline metrics moved beyond their tolerance or are missing (%s against %s):\n",
-              r.failures.size(), r.total, args.dir.c_str(), args.baseline.c_str());
+              r.failures.size(), r.total, dir.c_str(), args.baseline.c_str());
   for (const auto& f : r.failures) std::printf("  %s\n", f.c_str());
   return 1;
 }

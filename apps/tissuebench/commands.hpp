@@ -70,11 +70,13 @@ struct StabilityArgs {
 int cmd_stability(const StabilityArgs& args);
 
 struct CheckArgs {
-  std::string dir, baseline, tier;
+  std::vector<std::string> dirs;  ///< one; with --update several (repeated runs)
+  std::string baseline, tier;
   bool update = false;
 };
 /// The regression guard: 0 when every baseline metric holds, 1 with the list
-/// of what moved; --update rewrites the baseline and says what changed.
+/// of what moved; --update rewrites the baseline and says what changed (from
+/// several folders: every tolerance from the measured spread, with its table).
 int cmd_check(const CheckArgs& args);
 
 /// The specs of the default suite (the thesis' three uni-axial experiments).

@@ -201,11 +201,15 @@ int dispatch(int argc, char** argv) {
   app::CheckArgs check;
   auto* check_cmd = cli.add_subcommand(
       "check", "Regression guard: the comparison metrics under DIR against a baseline (exit 1 with what moved)");
-  check_cmd->add_option("dir", check.dir, "Folder of *_compare.json files (a suite's or run --solver both's output)")
+  check_cmd->add_option("dir", check.dirs,
+                        "Folder of *_compare.json files, leg summaries and suite.json (a suite's or run --solver "
+                        "both's output); with --update, several folders (repeated runs) derive the tolerances "
+                        "from their spread")
       ->required();
   check_cmd->add_option("--baseline", check.baseline, "Baseline file (reports/baselines/*.yaml)")->required();
   check_cmd->add_flag("--update", check.update,
-                      "Rewrite the baseline from DIR (keeping its tolerances) and list what changed");
+                      "Rewrite the baseline from DIR (one folder: keeping its tolerances; several: tolerances "
+                      "from the measured spread) and list what changed");
   check_cmd->add_option("--tier", check.tier, "Tier name recorded in a baseline written by --update");
 
   try {

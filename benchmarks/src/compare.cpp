@@ -5,6 +5,8 @@
 
 #include "msd/core/types.hpp"
 
+#include <yaml-cpp/yaml.h>
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -27,6 +29,132 @@ const std::vector<double>& series(const Results& r, const std::string& name, con
   return it->second;
 }
 
+// Two YAML nodes equal in content (scalars as numbers when both are numbers,
+// else as text; maps key by key; sequences item by item), whatever their style.
+bool same_yaml(const YAML::Node& a, const YAML::Node& b) {
+  if (a.Type() != b.Type()) return false;
+  if (a.IsScalar()) {
+    double x = 0.0, y = 0.0;
+    if (YAML::convert<double>::decode(a, x) && YAML::convert<double>::decode(b, y)) return x == y;
+    return a.Scalar() == b.Scalar();
+  }
+  if (a.IsSequence()) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i)
+      if (!same_yaml(a[i], b[i])) return false;
+    return true;
+  }
+  if (a.IsMap()) {
+    if (a.size() != b.size()) return false;
+    for (const auto& kv : a) {
+      const YAML::Node other = b[kv.first.as<std::string>()];
+      if (!other || !same_yaml(kv.second, other)) return false;
+    }
+    return true;
+  }
+  return true;  // both null
+}
+
+// Both files must come from one test: the same spec (name, and the sections
+// both solvers read: geometry, material, loading) and the same material
+// constants (/meta/material entries both files record).
+void require_same_test(const Results& m, const Results& f, const std::string& msd_file,
+                       const std::string& fem_file) {
+  const std::string pair = msd_file + " and " + fem_file;
+  if (m.meta.at("spec_name") != f.meta.at("spec_name"))
+    throw msd::Error("compare: the files come from different specs (" + m.meta.at("spec_name") + ", " +
+                     f.meta.at("spec_name") + ")");
+  YAML::Node sm, sf;
+  try {
+    sm = YAML::Load(m.meta.count("spec") ? m.meta.at("spec") : "");
+    sf = YAML::Load(f.meta.count("spec") ? f.meta.at("spec") : "");
+  } catch (const YAML::Exception& e) {
+    throw msd::Error("compare: " + pair + ": /meta/spec is not readable YAML (" + e.msg + ")");
+  }
+  if (sm.IsMap() && sf.IsMap())
+    for (const char* section : {"geometry", "material", "loading"})
+      if (!same_yaml(sm[section], sf[section]))
+        throw msd::Error("compare: " + pair + " come from different specs: their /meta/spec '" + section +
+                         "' sections differ");
+  for (const auto& [key, a] : m.material) {
+    const auto it = f.material.find(key);
+    if (it == f.material.end()) continue;
+    const double b = it->second;
+    if (!(std::abs(a - b) <= 1e-9 * std::max(std::abs(a), std::abs(b))))
+      throw msd::Error("compare: " + pair + " used different materials: /meta/material/" + key + " " +
+                       json_number(a, 10) + " against " + json_number(b, 10));
+  }
+}
+
+// Refuses a non-finite sample in a series the comparison reads: a complete run
+// holds none, and dropping it would lower the error.
+void require_finite(const std::vector<double>& v, const std::string& name, const std::string& file,
+                    const std::vector<double>& time) {
+  for (size_t i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v[i]))
+      throw msd::Error("compare: " + file + ": /series/" + name + " row " + std::to_string(i + 1) + " (t = " +
+                       (i < time.size() ? json_number(time[i], 6) : std::string("?")) +
+                       " s) is not finite; a complete run holds only finite samples");
+}
+
+// The displacement field at the MSD nodes against the FEM solution there
+// (/fields/nodes against /fields/probes, frames matched by time).
+void compare_field(const std::string& msd_file, const std::string& fem_file, Comparison& c) {
+  const PointSetData a = read_point_set(msd_file, "nodes"), b = read_point_set(fem_file, "probes");
+  if (a.points.size() != b.points.size())
+    throw msd::Error("compare: " + fem_file + " holds the FEM solution at " + std::to_string(b.points.size()) +
+                     " points, " + msd_file + " has " + std::to_string(a.points.size()) + " nodes");
+  for (size_t i = 0; i < a.points.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(a.points[i][static_cast<size_t>(k)] - b.points[i][static_cast<size_t>(k)]) > 1e-12)
+        throw msd::Error("compare: the FEM probe points are not the MSD nodes (point " + std::to_string(i) + ")");
+  double umax = 0.0, sum = 0.0, emax = 0.0;
+  long count = 0;
+  for (size_t fb = 0; fb < b.time.size(); ++fb) {
+    size_t fa = 0;
+    double best = 1e300;
+    for (size_t k = 0; k < a.time.size(); ++k)
+      if (std::abs(a.time[k] - b.time[fb]) < best) {
+        best = std::abs(a.time[k] - b.time[fb]);
+        fa = k;
+      }
+    if (best > 1e-6) continue;
+    ++c.frames_compared;
+    long outside = 0;
+    for (size_t i = 0; i < b.points.size(); ++i) {
+      const auto& uf = b.displacement[fb][i];
+      const auto& um = a.displacement[fa][i];
+      // A probe outside the FEM mesh is NaN in all three components (legitimately);
+      // anything else non-finite is refused.
+      if (std::isnan(uf[0]) && std::isnan(uf[1]) && std::isnan(uf[2])) {
+        ++outside;
+        continue;
+      }
+      for (int k = 0; k < 3; ++k) {
+        if (!std::isfinite(uf[static_cast<size_t>(k)]))
+          throw msd::Error("compare: " + fem_file + ": /fields/probes_displacement frame " + std::to_string(fb + 1) +
+                           ", point " + std::to_string(i + 1) +
+                           " is not finite in some components only (a probe outside the mesh is NaN in all three)");
+        if (!std::isfinite(um[static_cast<size_t>(k)]))
+          throw msd::Error("compare: " + msd_file + ": /fields/nodes_displacement frame " + std::to_string(fa + 1) +
+                           ", node " + std::to_string(i + 1) + " is not finite");
+      }
+      const double e2 = (um[0] - uf[0]) * (um[0] - uf[0]) + (um[1] - uf[1]) * (um[1] - uf[1]) +
+                        (um[2] - uf[2]) * (um[2] - uf[2]);
+      umax = std::max(umax, std::sqrt(uf[0] * uf[0] + uf[1] * uf[1] + uf[2] * uf[2]));
+      sum += e2;
+      emax = std::max(emax, std::sqrt(e2));
+      ++count;
+    }
+    c.nodes_outside = outside;
+    c.nodes_compared = static_cast<long>(b.points.size()) - outside;
+  }
+  if (count > 0 && umax > 0.0) {
+    c.displacement_rel_rms = std::sqrt(sum / count) / umax;
+    c.displacement_rel_max = emax / umax;
+  }
+}
+
 }  // namespace
 
 std::string load_series_name(Loading loading) { return loading_info(loading).load_series; }
@@ -47,9 +175,7 @@ Comparison compare_results(const std::string& msd_file, const std::string& fem_f
                      " / " + name_of(loading_of(f)) + ")");
   c.loading = *loading;
   const LoadingInfo& info = loading_info(c.loading);
-  if (m.meta.at("spec_name") != f.meta.at("spec_name"))
-    throw msd::Error("compare: the files come from different specs (" + m.meta.at("spec_name") + ", " +
-                     f.meta.at("spec_name") + ")");
+  require_same_test(m, f, msd_file, fem_file);
 
   const auto& tm = series(m, "time", msd_file);
   const auto& tf = series(f, "time", fem_file);
@@ -75,6 +201,15 @@ Comparison compare_results(const std::string& msd_file, const std::string& fem_f
   double max_v = 0.0;
   const auto* vm = m.series.count("volume_ratio") ? &m.series.at("volume_ratio") : nullptr;
   const auto* vf = f.series.count("volume_ratio") ? &f.series.at("volume_ratio") : nullptr;
+  require_finite(tm, "time", msd_file, tm);
+  require_finite(tf, "time", fem_file, tf);
+  require_finite(ym, c.load_series, msd_file, tm);
+  require_finite(yf, c.load_series, fem_file, tf);
+  if (vm && vf) {
+    require_finite(*vm, "volume_ratio", msd_file, tm);
+    require_finite(*vf, "volume_ratio", fem_file, tf);
+  }
+  if (!x_name.empty()) require_finite(series(f, x_name, fem_file), x_name, fem_file, tf);
   for (size_t i = 0; i < tf.size(); ++i) {
     const double y = interpolate(tm, ym, tf[i]);
     if (std::isnan(y)) continue;
@@ -100,50 +235,8 @@ Comparison compare_results(const std::string& msd_file, const std::string& fem_f
   if (nw > 0 && sum_fw > 0) c.load_rel_rms_working = std::sqrt(sum_dw / sum_fw);
 
   // Displacement field at the MSD nodes.
-  if (displacement_field && m.point_sets.count("nodes") && f.point_sets.count("probes")) {
-    const PointSetData a = read_point_set(msd_file, "nodes"), b = read_point_set(fem_file, "probes");
-    if (a.points.size() != b.points.size())
-      throw msd::Error("compare: " + fem_file + " holds the FEM solution at " + std::to_string(b.points.size()) +
-                       " points, " + msd_file + " has " + std::to_string(a.points.size()) + " nodes");
-    for (size_t i = 0; i < a.points.size(); ++i)
-      for (int k = 0; k < 3; ++k)
-        if (std::abs(a.points[i][static_cast<size_t>(k)] - b.points[i][static_cast<size_t>(k)]) > 1e-12)
-          throw msd::Error("compare: the FEM probe points are not the MSD nodes (point " + std::to_string(i) + ")");
-    double umax = 0.0, sum = 0.0, emax = 0.0;
-    long count = 0;
-    for (size_t fb = 0; fb < b.time.size(); ++fb) {
-      size_t fa = 0;
-      double best = 1e300;
-      for (size_t k = 0; k < a.time.size(); ++k)
-        if (std::abs(a.time[k] - b.time[fb]) < best) {
-          best = std::abs(a.time[k] - b.time[fb]);
-          fa = k;
-        }
-      if (best > 1e-6) continue;
-      ++c.frames_compared;
-      long outside = 0;
-      for (size_t i = 0; i < b.points.size(); ++i) {
-        const auto& uf = b.displacement[fb][i];
-        if (std::isnan(uf[0])) {
-          ++outside;
-          continue;
-        }
-        const auto& um = a.displacement[fa][i];
-        const double e2 = (um[0] - uf[0]) * (um[0] - uf[0]) + (um[1] - uf[1]) * (um[1] - uf[1]) +
-                          (um[2] - uf[2]) * (um[2] - uf[2]);
-        umax = std::max(umax, std::sqrt(uf[0] * uf[0] + uf[1] * uf[1] + uf[2] * uf[2]));
-        sum += e2;
-        emax = std::max(emax, std::sqrt(e2));
-        ++count;
-      }
-      c.nodes_outside = outside;
-      c.nodes_compared = static_cast<long>(b.points.size()) - outside;
-    }
-    if (count > 0 && umax > 0.0) {
-      c.displacement_rel_rms = std::sqrt(sum / count) / umax;
-      c.displacement_rel_max = emax / umax;
-    }
-  }
+  if (displacement_field && m.point_sets.count("nodes") && f.point_sets.count("probes"))
+    compare_field(msd_file, fem_file, c);
 
   auto cost = [](const Results& r, const char* key) {
     if (!r.timing.count(key) || !r.series.count("time") || r.series.at("time").empty())

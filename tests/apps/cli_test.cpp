@@ -361,6 +361,20 @@ TEST(Cli, CheckPassesUnchangedAndFailsOnAPerturbedSpringConstant) {
   // Bad input: a missing folder or baseline is an input error (2), not a regression.
   EXPECT_EQ(sh("check " + dir.file("nowhere") + " --baseline " + dir.file("b.yaml")).code, 2);
   EXPECT_EQ(sh("check " + dir.file("base") + " --baseline " + dir.file("none.yaml")).code, 2);
+  // So is a baseline that would switch the guard off: an infinite, NaN, negative or
+  // missing tolerance, or no metrics at all - named with its file, line and field.
+  const std::string entry = "tier: t\nmetrics:\n  cli.load_rel_rms: ";
+  for (const auto& [text, field] : std::vector<std::pair<std::string, std::string>>{
+           {entry + "{value: 0.1, tolerance: .inf}\n", ":3:45: metrics.cli.load_rel_rms.tolerance: must be finite"},
+           {entry + "{value: 0.1, tolerance: .nan}\n", ":3:45: metrics.cli.load_rel_rms.tolerance: must be finite"},
+           {entry + "{value: 0.1, tolerance: -1}\n", ":3:45: metrics.cli.load_rel_rms.tolerance: must be >= 0"},
+           {entry + "{value: 0.1}\n", ":3:21: metrics.cli.load_rel_rms.tolerance: required field is missing"},
+           {"tier: t\nmetrics: {}\n", ":2:10: metrics: empty"}}) {
+    std::ofstream(dir.file("bad.yaml")) << text;
+    const Result r = sh("check " + dir.file("base") + " --baseline " + dir.file("bad.yaml"));
+    EXPECT_EQ(r.code, 2) << text << r.output;
+    EXPECT_NE(r.output.find(dir.file("bad.yaml") + field), std::string::npos) << text << r.output;
+  }
 }
 
 TEST(Cli, SuiteBadTierOrSpecIsAnInputErrorBeforeAnythingRuns) {

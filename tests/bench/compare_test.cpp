@@ -1,7 +1,8 @@
 // bench::compare_results on hand-made results files whose errors are known:
 // the load curve over the whole path and the working range, the volume ratio,
 // the displacement field, the ring-down frequency and damping, the costs, and
-// the refusals (wrong solver, incomplete run, different tests).
+// the refusals (wrong solver, incomplete run, different tests, specs or
+// materials, non-finite samples).
 #include "bench/compare.hpp"
 
 #include "bench/shared_io.hpp"
@@ -31,12 +32,15 @@ struct FileSpec {
   double cpu_seconds = -1.0;  ///< recorded when >= 0
   std::map<std::string, double> metrics;
   bool finish = true;
+  std::string spec_body;  ///< YAML after the name line of /meta/spec
+  std::vector<std::pair<std::string, double>> material;
 };
 
 void write(const std::string& path, const FileSpec& s) {
   bench::RunMeta meta;
   meta.solver = s.solver;
-  meta.spec_text = "name: " + s.spec_name + "\n";
+  meta.spec_text = "name: " + s.spec_name + "\n" + s.spec_body;
+  meta.material = s.material;
   meta.spec_path = s.spec_name + ".yaml";
   meta.spec_name = s.spec_name;
   meta.text = {{"test", s.test}};
@@ -363,4 +367,126 @@ TEST(Compare, JsonHoldsEveryDocumentedKeyWithNullForUndefined) {
     EXPECT_NE(j.find("\"" + std::string(key) + "\":"), std::string::npos) << key;
   EXPECT_NE(j.find("\"load_rel_rms\": 0.25"), std::string::npos) << j;
   EXPECT_NE(j.find("\"load_rel_rms_working\": null"), std::string::npos) << j;
+}
+
+namespace {
+
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
+  const size_t at = s.find(from);
+  if (at == std::string::npos) throw std::runtime_error("replaced: no '" + from + "'");
+  return s.replace(at, from.size(), to);
+}
+
+std::string refusal(const std::string& msd, const std::string& fem) {
+  try {
+    bench::compare_results(msd, fem);
+  } catch (const msd::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(Compare, RefusesFilesOfDifferentSpecSectionsOrMaterials) {
+  testing_support::TempDir dir("compare");
+  FileSpec f = uniaxial_fem();
+  f.spec_body = "geometry: {shape: box, size: [0.1, 0.1, 0.1]}\nmaterial: {library: non_muscular_tissue}\n"
+                "loading: {type: uniaxial, path: thesis_cycle}\nfem: {degree: 2}\n";
+  f.material = {{"density", 1000.0}, {"youngs_modulus", 5000.0}, {"shear_modulus", 1700.0}};
+  write(dir.file("fem.h5"), f);
+  FileSpec m = f;
+  m.solver = "msd";
+  // Another style, other msd/fem sections and extra MSD-only constants: the same test.
+  m.spec_body = "geometry:\n  shape: box\n  size: [0.10, 0.1, 1.0e-1]\nmaterial:\n  library: non_muscular_tissue\n"
+                "loading: {path: thesis_cycle, type: uniaxial}\nmsd: {constants: raw}\n";
+  m.material = {{"density", 1000.0}, {"youngs_modulus", 5000.0}, {"k_s", 10.75}};
+  write(dir.file("msd.h5"), m);
+  EXPECT_EQ(refusal(dir.file("msd.h5"), dir.file("fem.h5")), "");
+
+  FileSpec other = m;
+  other.spec_body = replaced(m.spec_body, "non_muscular_tissue", "passive_muscle");
+  write(dir.file("other_material.h5"), other);
+  std::string e = refusal(dir.file("other_material.h5"), dir.file("fem.h5"));
+  EXPECT_NE(e.find("different specs"), std::string::npos) << e;
+  EXPECT_NE(e.find("'material'"), std::string::npos) << e;
+  EXPECT_NE(e.find(dir.file("other_material.h5")), std::string::npos) << e;
+
+  other = m;
+  other.spec_body = replaced(m.spec_body, "thesis_cycle", "[[0, 0], [1, 0.4]]");
+  write(dir.file("other_loading.h5"), other);
+  e = refusal(dir.file("other_loading.h5"), dir.file("fem.h5"));
+  EXPECT_NE(e.find("'loading'"), std::string::npos) << e;
+
+  other = m;
+  other.spec_body = replaced(m.spec_body, "1.0e-1]", "0.2]");
+  write(dir.file("other_geometry.h5"), other);
+  EXPECT_NE(refusal(dir.file("other_geometry.h5"), dir.file("fem.h5")).find("'geometry'"), std::string::npos);
+
+  other = m;
+  other.material = {{"density", 1000.0}, {"youngs_modulus", 5200.0}};
+  write(dir.file("other_constants.h5"), other);
+  e = refusal(dir.file("other_constants.h5"), dir.file("fem.h5"));
+  EXPECT_NE(e.find("different materials: /meta/material/youngs_modulus 5200 against 5000"), std::string::npos) << e;
+}
+
+TEST(Compare, RefusesNonFiniteSamplesInsteadOfDroppingThem) {
+  // A NaN dropped from the sums would lower the error; a complete run holds none.
+  testing_support::TempDir dir("compare");
+  write(dir.file("fem.h5"), uniaxial_fem());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  FileSpec m = uniaxial_fem();
+  m.solver = "msd";
+  write(dir.file("msd.h5"), m);
+  EXPECT_EQ(refusal(dir.file("msd.h5"), dir.file("fem.h5")), "");
+  for (const std::string column : {"nominal_stress", "volume_ratio"}) {
+    FileSpec bad = m;
+    bad.value = [&, column](const std::string& c, double t) {
+      return c == column && std::abs(t - 0.5) < 1e-9 ? nan : uniaxial_fem().value(c, t);
+    };
+    write(dir.file("bad.h5"), bad);
+    const std::string e = refusal(dir.file("bad.h5"), dir.file("fem.h5"));
+    EXPECT_NE(e.find(dir.file("bad.h5") + ": /series/" + column + " row 51 (t = 0.5 s) is not finite"), std::string::npos)
+        << e;
+    FileSpec bad_fem = uniaxial_fem();
+    bad_fem.value = bad.value;
+    write(dir.file("bad_fem.h5"), bad_fem);
+    EXPECT_NE(refusal(dir.file("msd.h5"), dir.file("bad_fem.h5")).find("/series/" + column), std::string::npos);
+  }
+  FileSpec inf = m;
+  inf.value = [](const std::string& c, double t) {
+    return c == "strain" && t > 0.99 ? std::numeric_limits<double>::infinity() : uniaxial_fem().value(c, t);
+  };
+  write(dir.file("inf_fem.h5"), [&] { FileSpec f = inf; f.solver = "fem"; return f; }());
+  EXPECT_NE(refusal(dir.file("msd.h5"), dir.file("inf_fem.h5")).find("/series/strain row 101"), std::string::npos);
+}
+
+TEST(Compare, RefusesAProbeNonFiniteInSomeComponentsOnlyOrANonFiniteMsdNode) {
+  testing_support::TempDir dir("compare");
+  const std::vector<std::array<double, 3>> points{{0, 0, 0}, {0.01, 0, 0}};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto make = [&](const std::string& file, const std::string& solver, const std::string& set,
+                  const std::array<double, 3>& second) {
+    bench::RunMeta meta;
+    meta.solver = solver;
+    meta.spec_name = "synthetic";
+    meta.text = {{"test", "uniaxial (bonded platens)"}};
+    bench::ResultsWriter w(dir.file(file), meta, {{"time", "s"}, {"strain", "-"}, {"nominal_stress", "Pa"}});
+    for (double t : {0.5, 1.0}) w.append({t, 0.1 * t, 100.0 * t});
+    w.set_timing(1.0, 2, 1e-3, 1);
+    w.add_point_set(set, points);
+    for (double t : {0.5, 1.0}) w.append_frame(set, t, {{0, 0, 0.001}, second});
+    w.finish();
+  };
+  make("fem.h5", "fem", "probes", {nan, nan, nan});  // outside the mesh: skipped
+  make("msd.h5", "msd", "nodes", {0, 0, 0.001});
+  EXPECT_EQ(bench::compare_results(dir.file("msd.h5"), dir.file("fem.h5")).nodes_outside, 1);
+  make("half.h5", "fem", "probes", {0.0, nan, 0.001});
+  EXPECT_NE(refusal(dir.file("msd.h5"), dir.file("half.h5")).find("in some components only"), std::string::npos);
+  make("fem_ok.h5", "fem", "probes", {0, 0, 0.001});
+  make("msd_nan.h5", "msd", "nodes", {0, nan, 0.001});
+  const std::string e = refusal(dir.file("msd_nan.h5"), dir.file("fem_ok.h5"));
+  EXPECT_NE(e.find(dir.file("msd_nan.h5") + ": /fields/nodes_displacement frame 1, node 2 is not finite"),
+            std::string::npos)
+      << e;
 }
