@@ -63,12 +63,20 @@ std::map<std::string, double> collect_metrics(const std::string& dir) {
 
 Baseline read_baseline(const std::string& path) {
   const YAML::Node root = load_yaml_file(path, "baseline");
+  // Shapes checked before use, so bad input is refused with a message, never a
+  // yaml-cpp exception (tests/fuzz/regressions/baseline/).
+  if (!root.IsMap()) throw msd::Error(path + ": the baseline must be a YAML mapping");
   Baseline b;
-  if (root["tier"]) b.tier = root["tier"].as<std::string>();
+  if (const YAML::Node tier = root["tier"]) {
+    if (!tier.IsScalar()) throw msd::Error(path + ":" + std::to_string(tier.Mark().line + 1) + ": tier must be a name");
+    b.tier = tier.Scalar();
+  }
   const YAML::Node m = root["metrics"];
   if (!m || !m.IsMap()) throw msd::Error(path + ": no 'metrics' map");
   for (const auto& kv : m) {
-    const std::string key = kv.first.as<std::string>();
+    if (!kv.first.IsScalar())
+      throw msd::Error(path + ":" + std::to_string(kv.first.Mark().line + 1) + ": a metric's name must be a key");
+    const std::string key = kv.first.Scalar();
     const YAML::Node e = kv.second;
     const std::string where = path + ":" + std::to_string(e.Mark().line + 1) + ": metrics." + key;
     GuardEntry g;
