@@ -37,9 +37,10 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
+mkdir -p "$BUILD"
 cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DTISSUEBENCH_WITH_FEM=OFF -DTISSUEBENCH_FUZZ=ON -DBUILD_TESTING=OFF -DTISSUEBENCH_BUILD_BENCHMARKS=OFF \
-  -DTISSUEBENCH_WERROR=OFF >"$BUILD.configure.log" 2>&1 || { cat "$BUILD.configure.log"; exit 2; }
+  -DTISSUEBENCH_WERROR=OFF >"$BUILD/configure.log" 2>&1 || { cat "$BUILD/configure.log"; exit 2; }
 cmake --build "$BUILD" -j"$(nproc)" --target "${TARGETS[@]/#/fuzz_}"
 
 # Seeds: the shipped files of each kind, plus small hand-made surfaces in
@@ -79,7 +80,7 @@ for t in "${TARGETS[@]}"; do
   echo "$line" | tee -a "$BUILD/summary.txt"
   if [ "$after" -gt "$before" ]; then
     found=1
-    grep -m3 -E "ERROR|tbfuzz:|SUMMARY" "$BUILD/logs/$t.log" || true
+    grep -a -m3 -E "ERROR|tbfuzz:|SUMMARY" "$BUILD/logs/$t.log" || true
   fi
 done
 exit "$found"
