@@ -76,6 +76,8 @@ TEST(FuzzRegressions, EveryTargetReadsItsOwnKindOfShippedFile) {
     const std::string bytes = bytes_of(shipped.at(t.name));
     ASSERT_FALSE(bytes.empty()) << shipped.at(t.name);
     EXPECT_NO_THROW(t.run(bytes)) << t.name << " refused " << shipped.at(t.name);
-    EXPECT_THROW(t.run(bytes.substr(0, bytes.size() / 3) + "\x01\x02 [{"), msd::Error) << t.name;
+    // Cut a third of the way in, then junk - also on a line of its own (the cut may end in a comment).
+    const std::string junk = "\x01\x02 [{";
+    EXPECT_THROW(t.run(bytes.substr(0, bytes.size() / 3) + junk + "\n" + junk), msd::Error) << t.name;
   }
 }
