@@ -173,7 +173,11 @@ Baseline read_baseline(const std::string& path) {
   if (root["metrics"].size() == 0)
     throw msd::Error(f.where("metrics") + "empty: a baseline that guards nothing is refused");
   for (const auto& kv : root["metrics"]) {
-    const std::string key = kv.first.as<std::string>();
+    // Shapes checked before use: bad input is refused with a message, never a
+    // yaml-cpp exception (tests/fuzz/regressions/baseline/).
+    if (!kv.first.IsScalar())
+      throw msd::Error(path + ":" + std::to_string(kv.first.Mark().line + 1) + ": a metric's name must be a key");
+    const std::string key = kv.first.Scalar();
     if (!kv.second.IsMap())
       throw msd::Error(Fields(root["metrics"], "metrics", path).where(key) + "expected {value, tolerance}");
     const Fields e(kv.second, "metrics." + key, path);

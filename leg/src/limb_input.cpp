@@ -78,7 +78,10 @@ LimbInput read_limb_input(const std::string& scene_file) {
   auto file_of = [&](const std::string& key) {
     const fs::path p(leg.text(key));
     const fs::path full = p.is_absolute() ? p : folder / p;
-    if (!fs::exists(full)) throw msd::Error(leg.where(key) + "no such file: " + full.string());
+    std::error_code ec;  // a name that cannot be looked up (too long, ...) is refused too, never thrown as fs's error
+    if (!fs::exists(full, ec))
+      throw msd::Error(leg.where(key) + (ec ? "cannot look up " + full.string() + ": " + ec.message()
+                                            : "no such file: " + full.string()));
     return full.string();
   };
   LimbInput in;

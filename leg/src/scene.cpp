@@ -91,13 +91,22 @@ fs::path relative_to(const std::string& scene_file, const std::string& p) {
   return q.is_absolute() ? q : fs::path(scene_file).parent_path() / q;
 }
 
+// A file a scene names must exist; a name the system cannot even look up (too
+// long, a folder that is a file, ...) is refused the same way, never with the
+// exception of fs::exists (tests/fuzz/regressions/).
+void require_file(const fs::path& p, const std::string& where) {
+  std::error_code ec;
+  if (fs::exists(p, ec)) return;
+  throw msd::Error(where + (ec ? "cannot look up " + p.string() + ": " + ec.message() : "no such file: " + p.string()));
+}
+
 // name, geometry, time stepping, gravity, terms, threshold.
 void read_run(const Fields& f, const std::string& path, LegScene& s) {
   s.name = f.text_or("name", fs::path(path).stem().string());
   s.description = f.text_or("description", "");
   if (f.has("geometry")) {
     const fs::path g = relative_to(path, f.text("geometry"));
-    if (!fs::exists(g)) throw msd::Error(f.where("geometry") + "no such file: " + g.string());
+    require_file(g, f.where("geometry"));
     s.geometry = g.string();
   } else {
     s.geometry = std::string(TISSUEBENCH_DATA_DIR) + "/leg/leg.yaml";
@@ -214,7 +223,7 @@ void read_muscles(const Fields& m, const std::string& path, LegScene& s) {
     throw msd::Error(m.where("activation") + "give either a script or constant activations, not both");
   if (m.has("script")) {
     const fs::path sp = relative_to(path, m.text("script"));
-    if (!fs::exists(sp)) throw msd::Error(m.where("script") + "no such file: " + sp.string());
+    require_file(sp, m.where("script"));
     s.script_path = sp.string();
     s.script = msd::read_activation_script(s.script_path, {"FRONT_MUSCLE", "BACK_MUSCLE"});
   }

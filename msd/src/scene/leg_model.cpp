@@ -132,9 +132,11 @@ void build_strands(const std::vector<TendonStrands>& tendons, const LegModelOpti
   if (!o.tendon_insertions.empty() && o.tendon_insertions.size() != tendons.size())
     throw Error("leg: " + std::to_string(o.tendon_insertions.size()) + " tendon insertions for " +
                 std::to_string(tendons.size()) + " tendons");
-  for (const auto& [name, e] : o.tendon_moduli)
+  for (const auto& modulus : o.tendon_moduli) {
+    const std::string& name = modulus.first;  // (C++17 lambdas cannot capture a structured binding: clang refuses)
     if (std::none_of(tendons.begin(), tendons.end(), [&](const TendonStrands& t) { return t.name == name; }))
       throw Error("leg: a modulus is given for tendon '" + name + "', which the leg does not have");
+  }
   for (const TendonStrands& t : tendons) {
     leg.tendon_names.push_back(t.name);
     const size_t ti = leg.tendon_names.size() - 1;

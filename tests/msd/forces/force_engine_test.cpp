@@ -26,8 +26,12 @@ void* operator new(std::size_t n) {
   if (void* p = std::malloc(n ? n : 1)) return p;
   throw std::bad_alloc();
 }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+// Out of line: inlined into a caller of `new` (gtest's CreateTest), gcc at -O1
+// with the sanitizers (TISSUEBENCH_SANITIZE) sees free() on a pointer from
+// operator new and, not knowing that this file's operator new is malloc, warns
+// -Wmismatched-new-delete.
+__attribute__((noinline)) void operator delete(void* p) noexcept { std::free(p); }
+__attribute__((noinline)) void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 using msd::Vec3;
 
