@@ -61,8 +61,7 @@ int cmd_leg(const LegArgs& args) {
     if (r.status != "complete") {
       std::fprintf(stderr, "error: %s%s%s: %s\n", scene.name.c_str(), r.variant.empty() ? "" : " / ",
                    r.variant.c_str(), r.failure.c_str());
-      if (!r.kept) std::fprintf(stderr, "  no leg.h5 could be written (nothing was left in its place)
-");
+      if (!r.kept) std::fprintf(stderr, "  no leg.h5 could be written (nothing was left in its place)\n");
       if (rc == 0) rc = 1;
       if (r.interrupted) rc = msd::interrupted_exit_code(r.interrupted);
     }
