@@ -8,8 +8,6 @@
 
 #include <CLI/CLI.hpp>
 
-#include <cstdio>
-#include <cstdlib>
 #include <iostream>
 
 namespace {
@@ -19,15 +17,9 @@ int dispatch(int argc, char** argv);
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int rc = dispatch(argc, argv);
-  if (tbio::hdf5_damaged()) {
-    // A results file on a full disk could not be closed: shutting HDF5 down
-    // would crash (it retries the close). End here; the temporaries are gone.
-    std::fflush(stdout);
-    std::fflush(stderr);
-    std::_Exit(rc);
-  }
-  return rc;
+  // A results file on a full disk that could not be closed ends the process
+  // here (tbio::end_program): shutting HDF5 down would crash.
+  return tbio::end_program(dispatch(argc, argv));
 }
 
 namespace {

@@ -11,8 +11,6 @@
 
 #include <CLI/CLI.hpp>
 
-#include <cstdio>
-#include <cstdlib>
 #include <iostream>
 
 namespace {
@@ -25,15 +23,9 @@ int main(int argc, char** argv) {
   fem::tune_blas_and_reexec(argv);
   // MPI (for the FEM solver) first; every process parses the same arguments.
   fem::Session session(argc, argv);
-  const int rc = dispatch(argc, argv);
-  if (tbio::hdf5_damaged()) {
-    // A results file on a full disk could not be closed: shutting HDF5 down
-    // would crash (it retries the close). End here; the temporaries are gone.
-    std::fflush(stdout);
-    std::fflush(stderr);
-    std::_Exit(rc);
-  }
-  return rc;
+  // A results file on a full disk that could not be closed ends the process
+  // here (tbio::end_program): shutting HDF5 down would crash.
+  return tbio::end_program(dispatch(argc, argv));
 }
 
 namespace {

@@ -10,6 +10,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <iomanip>
@@ -436,6 +438,13 @@ void ResultsWriter::restore(const ResultsSnapshot& s) {
 }
 
 bool hdf5_damaged() { return g_hdf5_damaged; }
+
+int end_program(int rc) {
+  if (!g_hdf5_damaged) return rc;
+  std::fflush(stdout);
+  std::fflush(stderr);
+  std::_Exit(rc);
+}
 
 std::string Results::status() const {
   const auto it = meta.find("status");

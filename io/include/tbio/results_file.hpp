@@ -171,8 +171,14 @@ Results read_results(const std::string& path);
 /// True when a results file on a full disk could not even be closed: HDF5's
 /// state is then damaged and shutting it down (at exit, or in MPI_Finalize)
 /// would crash. The program then ends with std::_Exit after flushing its
-/// output (apps/tissuebench/main.cpp).
+/// output (end_program).
 bool hdf5_damaged();
+
+/// A program's last step: returns `rc` for main() to return, or, when
+/// hdf5_damaged(), flushes stdout and stderr and ends the process at once with
+/// `rc` (std::_Exit), skipping the HDF5 shutdown that would crash. The
+/// temporaries of a failed file are gone by then.
+int end_program(int rc);
 
 /// Library versions used in the metadata.
 std::string tissuebench_version();
