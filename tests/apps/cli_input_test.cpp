@@ -1,31 +1,18 @@
 // The command line refuses bad values before anything runs: every numeric
 // option is checked for range and finiteness (NaN included), with the option
 // named, exit 2 and nothing written. Fast: no simulation runs.
+#include "run_program.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <memory>
 
 namespace {
 
-struct Result {
-  int code;
-  std::string output;
-};
-
-Result sh(const std::string& args) {
-  const std::string cmd = std::string(TISSUEBENCH_BINARY) + " " + args + " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> p(popen(cmd.c_str(), "r"), pclose);
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p.get())) out.append(buf, n);
-  const int status = pclose(p.release());
-  return {WEXITSTATUS(status), out};
-}
+using Result = testing_support::ShellResult;
+using testing_support::sh;
 
 void expect_refused(const std::string& args, const std::string& message) {
   const Result r = sh(args);

@@ -2,6 +2,7 @@
 // that bad input leaves nothing behind.
 #include "bench/shared_io.hpp"
 #include "msd/geometry/triangle_mesh.hpp"
+#include "run_program.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -17,20 +18,8 @@
 
 namespace {
 
-struct Result {
-  int code;
-  std::string output;
-};
-
-Result sh(const std::string& args) {
-  const std::string cmd = std::string(TISSUEBENCH_BINARY) + " " + args + " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> p(popen(cmd.c_str(), "r"), pclose);
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p.get())) out.append(buf, n);
-  const int status = pclose(p.release());
-  return {WEXITSTATUS(status), out};
-}
+using Result = testing_support::ShellResult;
+using testing_support::sh;
 
 const char* kSpec = R"(name: cli
 geometry: {shape: box, size: [0.02, 0.02, 0.04]}

@@ -4,6 +4,7 @@
 // and checkpoints whose resumed results are bit-identical.
 #include "bench/shared_io.hpp"
 #include "msd/io/output_lock.hpp"
+#include "run_program.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -15,30 +16,16 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <memory>
 #include <thread>
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string output;
-};
-
-Result sh(const std::string& args, const std::string& prefix = "") {
-  const std::string cmd = prefix + std::string(TISSUEBENCH_BINARY) + " " + args + " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> p(popen(cmd.c_str(), "r"), pclose);
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p.get())) out.append(buf, n);
-  const int status = pclose(p.release());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), out};
-}
+using Result = testing_support::ShellResult;
+using testing_support::sh;
 
 // The program started in the background (output to `log`).
 pid_t start(const std::vector<std::string>& args, const std::string& log) {
