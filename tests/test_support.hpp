@@ -5,6 +5,7 @@
 #include "msd/core/types.hpp"
 #include "msd/mesh/limb_mesher.hpp"
 #include "msd/mesh/tet_mesh.hpp"
+#include "msd/model/model.hpp"
 
 #include <filesystem>
 #include <fstream>
@@ -60,6 +61,16 @@ inline msd::TetMesh corner_tet_mesh(double e) {
   m.tets = {{0, 1, 2, 3}};
   m.region = {0};
   return m;
+}
+
+/// The 10 cm corner tet as a model: k_s = 1 N/m on every edge, water's density;
+/// `opt` adds the rest (its region materials are replaced).
+inline msd::Model corner_tet_model(msd::ModelOptions opt = {}) {
+  msd::TissueMaterial mat;
+  mat.density = 1000.0;
+  mat.k_s = 1.0;
+  opt.region_materials = {mat};
+  return msd::build_model(corner_tet_mesh(0.1), opt);
 }
 
 /// A small uni-axial spec (a 2 x 2 x 4 cm box at h = 1 cm, 80 tets, physical

@@ -13,15 +13,6 @@
 
 namespace {
 
-// The 10 cm corner tet, k_s = 1 N/m on every edge, water's density.
-msd::Model corner_model(msd::ModelOptions opt = {}) {
-  msd::TissueMaterial mat;
-  mat.density = 1000.0;
-  mat.k_s = 1.0;
-  opt.region_materials = {mat};
-  return msd::build_model(testing_support::corner_tet_mesh(0.1), opt);
-}
-
 std::string failure_of(const msd::BlowUpLimits& l, const msd::Model& m, const msd::State& s) {
   try {
     l.check(m, s);
@@ -34,7 +25,7 @@ std::string failure_of(const msd::BlowUpLimits& l, const msd::Model& m, const ms
 }  // namespace
 
 TEST(BlowUp, TheWaveSpeedIsTheLongestSpringChainsClosedForm) {
-  const msd::Model model = corner_model();
+  const msd::Model model = testing_support::corner_tet_model();
   // Lumped masses: a quarter of rho V each; the longest edge is a face
   // diagonal, sqrt(2) h: c = sqrt(2) h sqrt(k / m).
   const double m = 1000.0 * (0.1 * 0.1 * 0.1 / 6.0) / 4.0;
@@ -44,7 +35,7 @@ TEST(BlowUp, TheWaveSpeedIsTheLongestSpringChainsClosedForm) {
   msd::ModelOptions g;
   g.terms = msd::kSprings | msd::kGravity;
   g.gravity = msd::Vec3(0, 0, -9.81);
-  msd::BlowUpLimits l(corner_model(g), 0.1, 10.0);
+  msd::BlowUpLimits l(testing_support::corner_tet_model(g), 0.1, 10.0);
   EXPECT_NEAR(l.free_fall_speed, std::sqrt(2 * 9.81 * 0.1), 1e-12);
   EXPECT_DOUBLE_EQ(l.max_displacement, 1.0);
   l.see_load_speed(3.0);
@@ -53,7 +44,7 @@ TEST(BlowUp, TheWaveSpeedIsTheLongestSpringChainsClosedForm) {
 }
 
 TEST(BlowUp, ADisplacementPastTheLimitNamesTheNodeAndTheDistance) {
-  const msd::Model model = corner_model();
+  const msd::Model model = testing_support::corner_tet_model();
   const msd::BlowUpLimits l(model, 0.1, 10.0);  // 1 m
   msd::State s = msd::rest_state(model);
   EXPECT_EQ(failure_of(l, model, s), "");
@@ -66,7 +57,7 @@ TEST(BlowUp, ADisplacementPastTheLimitNamesTheNodeAndTheDistance) {
 }
 
 TEST(BlowUp, ANodeFasterThanTenReferenceSpeedsOrTooMuchKineticEnergyIsABlowUp) {
-  const msd::Model model = corner_model();
+  const msd::Model model = testing_support::corner_tet_model();
   const msd::BlowUpLimits l(model, 0.1, 10.0);
   const double v_ref = l.reference_speed();
   ASSERT_GT(v_ref, 0.0);
@@ -94,7 +85,7 @@ TEST(BlowUp, ATimeStepOfAThousandSecondsFailsTheRunInsteadOfCompletingIt) {
   msd::ModelOptions opt;
   opt.terms = msd::kSprings | msd::kGravity;
   opt.gravity = msd::Vec3(0, 0, -9.81);
-  const msd::Model model = corner_model(opt);
+  const msd::Model model = testing_support::corner_tet_model(opt);
   msd::TimeSteppingOptions t;
   t.dt = 1000.0;
   t.output_interval = 1000.0;

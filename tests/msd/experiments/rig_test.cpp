@@ -5,21 +5,8 @@
 
 #include <gtest/gtest.h>
 
-namespace {
-
-// The 10 cm corner tet with unit springs and water's density; `opt` adds the rest.
-msd::Model corner_model(msd::ModelOptions opt = {}) {
-  msd::TissueMaterial mat;
-  mat.density = 1000.0;
-  mat.k_s = 1.0;
-  opt.region_materials = {mat};
-  return msd::build_model(testing_support::corner_tet_mesh(0.1), opt);
-}
-
-}  // namespace
-
 TEST(Rig, ElementVolumesSumsSignedVolumesAndCountsInversions) {
-  const msd::Model model = corner_model();
+  const msd::Model model = testing_support::corner_tet_model();
   msd::ElementVolumes v = msd::element_volumes(model, model.rest_positions);
   EXPECT_NEAR(v.volume, 0.1 * 0.1 * 0.1 / 6.0, 1e-15);
   EXPECT_EQ(v.inverted, 0);
@@ -38,7 +25,7 @@ TEST(Rig, BulkSampleAndAppliedForceAddTheDeadLoadsAtTheirScale) {
   opt.gravity = msd::Vec3(0, 0, -10);
   opt.external_force = msd::Points::Zero(3, 4);
   opt.external_force(0, 2) = 3.0;
-  const msd::Model model = corner_model(opt);
+  const msd::Model model = testing_support::corner_tet_model(opt);
   msd::State s = msd::rest_state(model);
   s.v(1, 3) = 2.0;
   s.x(2, 3) = 0.2;  // apex lifted: the volume doubles, the spring pulls it back
