@@ -8,30 +8,50 @@
 
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 namespace app {
 
-/// A finite number in [lo, hi] (either bound may be infinite); `what` names
-/// what the number is ("simulated seconds", "m").
-inline CLI::Validator finite_in(double lo, double hi, const std::string& what, bool lo_open = false) {
-  const std::string range = std::string(lo_open ? "(" : "[") + CLI::detail::to_string(lo) + ", " +
-                            (std::isinf(hi) ? std::string("inf") : CLI::detail::to_string(hi)) + "]";
+namespace detail {
+
+/// One value of type T (double or long) in [lo, hi] (`(lo, hi]` when
+/// `lo_open`), the whole text parsed; a double must also be finite. `what`
+/// names what the value is ("simulated seconds", "m").
+template <class T>
+CLI::Validator value_in(T lo, T hi, const std::string& what, bool lo_open, const std::string& name) {
+  constexpr bool real = std::is_floating_point_v<T>;
+  const std::string kind = real ? "a number" : "an integer";
+  const auto text_of = [](T v) {
+    if constexpr (real) return std::isinf(v) ? std::string("inf") : CLI::detail::to_string(v);
+    else return std::to_string(v);
+  };
+  const std::string range = std::string(lo_open ? "(" : "[") + text_of(lo) + ", " + text_of(hi) + "]";
   return CLI::Validator(
       [=](std::string& text) -> std::string {
-        double v = 0.0;
+        T v{};
         std::size_t used = 0;
         try {
-          v = std::stod(text, &used);
+          if constexpr (real) v = std::stod(text, &used);
+          else v = std::stol(text, &used);
         } catch (const std::exception&) {
-          return "must be a number (" + what + "); got '" + text + "'";
+          used = 0;
         }
-        if (used != text.size()) return "must be a number (" + what + "); got '" + text + "'";
-        if (!std::isfinite(v)) return "must be a finite number (" + what + "); got " + text;
+        if (used == 0 || used != text.size()) return "must be " + kind + " (" + what + "); got '" + text + "'";
+        if constexpr (real)
+          if (!std::isfinite(v)) return "must be a finite number (" + what + "); got " + text;
         if (v < lo || v > hi || (lo_open && v == lo))
           return "must be in " + range + " (" + what + "); got " + text;
         return {};
       },
-      "number in " + range, "finite_in");
+      (real ? "number in " : "integer in ") + range, name);
+}
+
+}  // namespace detail
+
+/// A finite number in [lo, hi] (either bound may be infinite); `what` names
+/// what the number is ("simulated seconds", "m").
+inline CLI::Validator finite_in(double lo, double hi, const std::string& what, bool lo_open = false) {
+  return detail::value_in<double>(lo, hi, what, lo_open, "finite_in");
 }
 
 /// A finite number > 0.
@@ -44,21 +64,7 @@ inline CLI::Validator finite_non_negative(const std::string& what) { return fini
 
 /// An integer in [lo, hi].
 inline CLI::Validator integer_in(long lo, long hi, const std::string& what) {
-  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
-  return CLI::Validator(
-      [=](std::string& text) -> std::string {
-        long v = 0;
-        std::size_t used = 0;
-        try {
-          v = std::stol(text, &used);
-        } catch (const std::exception&) {
-          return "must be an integer (" + what + "); got '" + text + "'";
-        }
-        if (used != text.size()) return "must be an integer (" + what + "); got '" + text + "'";
-        if (v < lo || v > hi) return "must be in " + range + " (" + what + "); got " + text;
-        return {};
-      },
-      "integer in " + range, "integer_in");
+  return detail::value_in<long>(lo, hi, what, false, "integer_in");
 }
 
 }  // namespace app
