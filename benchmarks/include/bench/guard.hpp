@@ -48,7 +48,11 @@ constexpr int kCostGeomeanMinimum = 3;
 constexpr double kDeterministicTolerance = 0.01;
 /// Smallest relative tolerance of a cost metric, and the factor on the measured
 /// relative spread (max - min) / median over repeated runs (see the README).
-constexpr double kCostToleranceFloor = 0.10;
+/// 20 %: CI's run on an idle machine moved cost/all.cost_ratio_geomean by
+/// +14.5 % from a baseline whose three runs (6.8 % apart) shared the machine
+/// with other jobs, so the spread of a few runs under one load understates
+/// the move between loads; a 30 % slowdown still fails.
+constexpr double kCostToleranceFloor = 0.20;
 constexpr double kCostSpreadFactor = 2.0;
 
 /// True for a speed metric (KEY `cost_ratio...`): relative, spread-derived tolerance.
