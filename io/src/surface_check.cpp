@@ -51,23 +51,6 @@ void refuse_intersections(const std::vector<NamedSurface>& surfaces,
   }
   std::vector<std::pair<Face, Face>> pairs;
   CGAL::Polygon_mesh_processing::self_intersections(CGAL::faces(all), all, std::back_inserter(pairs));
-  // Local folds: two triangles of one surface with a shared vertex or an edge
-  // between their vertices (see the header).
-  std::vector<std::set<std::pair<int, int>>> edges(surfaces.size());
-  for (size_t s = 0; s < surfaces.size(); ++s)
-    for (const msd::Tri& t : surfaces[s].mesh->triangles)
-      for (int k = 0; k < 3; ++k) {
-        const int a = t[static_cast<size_t>(k)], b = t[static_cast<size_t>((k + 1) % 3)];
-        edges[s].insert({std::min(a, b), std::max(a, b)});
-      }
-  auto local_fold = [&](int s, int ta, int tb) {
-    const msd::Tri& a = surfaces[static_cast<size_t>(s)].mesh->triangles[static_cast<size_t>(ta)];
-    const msd::Tri& b = surfaces[static_cast<size_t>(s)].mesh->triangles[static_cast<size_t>(tb)];
-    for (int x : a)
-      for (int y : b)
-        if (x == y || edges[static_cast<size_t>(s)].count({std::min(x, y), std::max(x, y)})) return true;
-    return false;
-  };
   const std::set<std::pair<int, int>> checked(must_not_cross.begin(), must_not_cross.end());
   // The first pair in a fixed order (by the faces' numbers), so the message
   // does not depend on CGAL's traversal.
@@ -79,7 +62,6 @@ void refuse_intersections(const std::vector<NamedSurface>& surfaces,
   for (const auto& p : pairs) {
     const int a = owner[p.first.idx()], b = owner[p.second.idx()];
     if (a != b && !checked.count({a, b}) && !checked.count({b, a})) continue;
-    if (a == b && local_fold(a, local[p.first.idx()], local[p.second.idx()])) continue;
     if (!first || key(p) < key(*first)) first = &p;
   }
   if (!first) return;

@@ -27,14 +27,8 @@ struct NamedSurface {
 /// order, and carry the line of the file that defined them where the format
 /// has lines. Each surface must already be closed and manifold
 /// (msd::validate_closed_surface).
-///
-/// Not refused: a local fold, two triangles of one surface that share a
-/// vertex or whose vertices an edge joins. Such folds are sub-cell defects of
-/// a marching-tetrahedra surface relaxed onto its field, not a surface passing
-/// through itself: the shipped leg's lower bone (msd/data/leg/lower_bone.obj,
-/// made by tissuebench leg-geometry) has three pairs, all within one 8 mm
-/// patch at its ankle end, a generator defect left to fix (the surfaces that
-/// cross a second sheet, the hidden-void case, are all refused).
+/// Every crossing counts, a fold between neighbouring triangles too (the leg
+/// generator's relaxation never makes one: msd/src/geometry/implicit_surface.cpp).
 void refuse_intersections(const std::vector<NamedSurface>& surfaces,
                           const std::vector<std::pair<int, int>>& must_not_cross);
 

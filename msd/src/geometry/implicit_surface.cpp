@@ -54,6 +54,39 @@ Vec3 project(const ScalarField& f, Vec3 x, double cell) {
   return x;
 }
 
+// Whether triangle t at positions x faces along grad f at its centroid (the
+// outward side). A triangle that faces the other way is folded over its
+// neighbours: the surface passes through itself there.
+bool faces_out(const ScalarField& f, const Tri& t, const std::vector<Vec3>& x, double cell) {
+  const Vec3& a = x[static_cast<size_t>(t[0])];
+  const Vec3& b = x[static_cast<size_t>(t[1])];
+  const Vec3& c = x[static_cast<size_t>(t[2])];
+  return (b - a).cross(c - a).dot(field_gradient(f, (a + b + c) / 3.0, 1e-3 * cell)) > 0.0;
+}
+
+// A relaxation pass may not fold the surface: every vertex of a triangle that
+// faced outwards before the pass (at `old`) and would face inwards after it
+// (at `next`) keeps its old position, repeated until no such triangle is left
+// (each round puts back at least one vertex, so it ends).
+void keep_orientation(const ScalarField& f, const std::vector<Tri>& tris, const std::vector<Vec3>& old,
+                      std::vector<Vec3>& next, double cell) {
+  std::vector<char> was_out(tris.size());
+  for (size_t t = 0; t < tris.size(); ++t) was_out[t] = faces_out(f, tris[t], old, cell);
+  for (bool reverted = true; reverted;) {
+    reverted = false;
+    for (size_t t = 0; t < tris.size(); ++t) {
+      if (!was_out[t] || faces_out(f, tris[t], next, cell)) continue;
+      for (int v : tris[t]) {
+        const size_t i = static_cast<size_t>(v);
+        if (next[i] != old[i]) {
+          next[i] = old[i];
+          reverted = true;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 
 TriangleMesh mesh_implicit_surface(const ScalarField& f, const ImplicitMeshOptions& o) {
@@ -162,6 +195,7 @@ TriangleMesh mesh_implicit_surface(const ScalarField& f, const ImplicitMeshOptio
       }
       next[v] = project(f, verts[v] + move, o.cell);
     }
+    keep_orientation(f, out.triangles, verts, next, o.cell);
     verts.swap(next);
   }
 
