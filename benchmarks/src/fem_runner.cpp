@@ -418,12 +418,29 @@ void finish_fem_file(ResultsWriter& writer, const fem::Summary& sum, const RunSu
   else writer.fail(s.failure);
 }
 
+// The FEM's ParaView frames (fem.vtu) go into OUT_vtu.partial-PID (rank 0's
+// pid, the same on every process) and that folder is renamed onto OUT_vtu when
+// the run ends, complete or failed, so no reader sees a folder whose frames
+// are still being written; an older OUT_vtu is replaced only then. A run
+// refused for its input removes the temporary folder.
+void commit_vtu_folder(const std::string& tmp, const std::string& final_dir) {
+  std::error_code ec;
+  const std::string old = tmp + ".old";  // tmp's name is this run's own
+  const bool had_old = fs::exists(final_dir);
+  if (had_old) fs::rename(final_dir, old, ec);
+  if (!ec) fs::rename(tmp, final_dir, ec);
+  if (ec) throw msd::Error(final_dir + ": cannot move the finished frames from " + tmp + " into place (" + ec.message() + ")");
+  if (had_old) fs::remove_all(old, ec);
+}
+
 }  // namespace
 
 RunSummary run_fem(const Spec& spec, const std::string& out_path, const Progress& progress) {
   const bool root = fem::Session::rank() == 0;
   const fs::path out(out_path);
-  const std::string vtu_dir = spec.fem.vtu ? (out.parent_path() / (out.stem().string() + "_vtu")).string() : "";
+  const std::string vtu_final = spec.fem.vtu ? (out.parent_path() / (out.stem().string() + "_vtu")).string() : "";
+  const std::string vtu_dir =
+      vtu_final.empty() ? "" : vtu_final + ".partial-" + std::to_string(fem::Session::root_pid());
   fem::Problem problem;
   try {
     problem = make_fem_problem(spec, vtu_dir);  // input errors surface here
@@ -492,8 +509,14 @@ RunSummary run_fem(const Spec& spec, const std::string& out_path, const Progress
     sum = e.summary;
     open_writer();  // a failure before the first report still leaves a record
   } catch (const fem::Error& e) {
-    if (root && !vtu_dir.empty() && fs::is_empty(vtu_dir)) fs::remove(vtu_dir);
+    if (root && !vtu_dir.empty()) fs::remove_all(vtu_dir);
     throw msd::Error(spec.path + ": " + e.what());
+  }
+  if (!vtu_dir.empty()) {
+    fem::Session::barrier();  // every process has written its pieces
+    if (root) commit_vtu_folder(vtu_dir, vtu_final);
+    for (auto& f : sum.vtu_files)
+      if (f.rfind(vtu_dir, 0) == 0) f = vtu_final + f.substr(vtu_dir.size());
   }
   s.dofs = sum.dofs;
   s.cells = sum.cells;

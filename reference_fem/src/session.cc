@@ -5,6 +5,8 @@
 #include <deal.II/base/config.h>
 #include <deal.II/base/mpi.h>
 
+#include <unistd.h>
+
 #include <memory>
 
 namespace fem {
@@ -23,6 +25,12 @@ Session::~Session() { g_mpi.reset(); }
 int Session::rank() { return static_cast<int>(dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD)); }
 int Session::size() { return static_cast<int>(dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD)); }
 void Session::barrier() { MPI_Barrier(MPI_COMM_WORLD); }
+
+long Session::root_pid() {
+  long pid = static_cast<long>(getpid());
+  MPI_Bcast(&pid, 1, MPI_LONG, 0, MPI_COMM_WORLD);
+  return pid;
+}
 
 std::string library_version() { return DEAL_II_PACKAGE_VERSION; }
 

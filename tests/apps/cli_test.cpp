@@ -172,6 +172,17 @@ TEST(Cli, FemBadInputAndFailedSolves) {
   EXPECT_EQ(h.status(), "failed");
   EXPECT_EQ(h.series.at("time").size(), 1u);  // the reference state only
   EXPECT_TRUE(std::filesystem::exists(dir.file("hard_vtu/hard.pvd")));
+  EXPECT_EQ(h.meta.at("vtu"), dir.file("hard_vtu/hard.pvd"));
+  // The frames were written into a temporary folder moved into place at the
+  // end; a second run replaces the first one's folder the same way. Neither
+  // leaves a temporary behind.
+  r = sh("run " + dir.file("hard.yaml") + " --solver fem --out " + dir.file("hard.h5"));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir.file("hard_vtu/hard.pvd")));
+  for (const auto& e : std::filesystem::directory_iterator(dir.path()))
+    EXPECT_EQ(e.path().filename().string().find(".partial"), std::string::npos) << e.path();
+  for (const auto& e : std::filesystem::directory_iterator(dir.path()))
+    EXPECT_EQ(e.path().filename().string().find(".old"), std::string::npos) << e.path();
 }
 
 TEST(Cli, InspectPrintsCounts) {

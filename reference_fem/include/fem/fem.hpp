@@ -37,6 +37,9 @@ class Session {
   static int size();
   /// Waits until every process arrives (MPI_Barrier on the world communicator).
   static void barrier();
+  /// The process id of rank 0, the same on every process (MPI_Bcast): names
+  /// a temporary that all processes share.
+  static long root_pid();
 };
 
 /// The deal.II version the solver was built with (e.g. "9.4.1").
