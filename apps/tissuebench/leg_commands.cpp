@@ -171,11 +171,11 @@ void add_leg_commands(CLI::App& cli, LegCommands& c) {
   c.leg_cmd->add_flag("--quiet", c.leg.quiet, "No progress line");
   c.leg_cmd->add_option("--checkpoint-every", c.leg.checkpoint_every,
                         "Write a checkpoint (DIR/leg.checkpoint) every this many simulated seconds; removed when "
-                        "the run completes (not for scenes with variants)")
+                        "the run completes (DIR/VARIANT/leg.checkpoint for each variant of a scene with variants)")
       ->check(app::finite_positive("simulated seconds"));
   c.leg_cmd->add_option("--resume", c.leg.resume,
                         "Continue from a checkpoint of the same scene and options (results bit-identical to an "
-                        "uninterrupted run)")
+                        "uninterrupted run; with variants, those before the checkpoint's are run again)")
       ->check(CLI::ExistingFile);
   c.leg_cmd->footer(
       "Files: leg.h5 and leg.csv are written under temporary names and renamed into place when the run ends "

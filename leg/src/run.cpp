@@ -327,6 +327,25 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
   return sum;
 }
 
+// The variant a checkpoint belongs to: the one whose input fingerprint
+// (leg_input_hash: the scene, the variant, the options) its header carries.
+size_t checkpoint_variant(const LegScene& scene, const std::vector<LegVariant>& variants, const msd::LegModel& leg,
+                          const std::string& path) {
+  const std::string model_hash = tbio::fingerprint(leg.tissue.rest_positions, leg.tissue.mass);
+  std::string why;
+  for (size_t i = 0; i < variants.size(); ++i) {
+    try {
+      const tbio::CheckpointReader probe(path, "leg", leg_input_hash(scene, variants[i]), model_hash);
+      return i;
+    } catch (const msd::Error& e) {
+      why = e.what();
+    }
+  }
+  if (variants.size() == 1) throw msd::Error(why);
+  throw msd::Error(path + ": --resume: a checkpoint of none of the variants of " + scene.file +
+                   " with these options (against the last, '" + variants.back().name + "': " + why + ")");
+}
+
 // `--out` must not name the scene, its script, its limb or a surface: the
 // files a run writes (every variant's) are checked against them.
 void refuse_outputs_over_inputs(const LegScene& scene, const CompiledLeg& c, const std::string& out_dir) {
@@ -353,9 +372,6 @@ void refuse_outputs_over_inputs(const LegScene& scene, const CompiledLeg& c, con
 std::vector<LegRunSummary> run_leg_scene(const LegScene& scene, const std::string& out_dir,
                                          const std::function<void(double, double)>& progress,
                                          const LegCheckpointing& cp) {
-  if ((cp.every > 0.0 || !cp.resume.empty()) && !scene.variants.empty())
-    throw msd::Error(scene.file + ": variants: a scene with variants cannot be checkpointed (--checkpoint-every, "
-                                  "--resume); run it without, or make each variant a scene of its own");
   if (!(cp.every >= 0.0) || !std::isfinite(cp.every))
     throw msd::Error("--checkpoint-every: must be a finite number of simulated seconds > 0");
   const CompiledLeg c = compile_leg(scene);  // input errors surface here, before anything is written
@@ -369,10 +385,17 @@ std::vector<LegRunSummary> run_leg_scene(const LegScene& scene, const std::strin
   fs::create_directories(out_dir);
   std::vector<LegVariant> variants = scene.variants;
   if (variants.empty()) variants.push_back({"", scene.front_activation, scene.back_activation});
+  // Each variant checkpoints into its own folder; a resume continues the
+  // checkpoint's variant, runs the variants before it again (deterministic:
+  // the same results) and the ones after it from rest.
+  const size_t resumed = cp.resume.empty() ? 0 : checkpoint_variant(scene, variants, c.model, cp.resume);
   std::vector<LegRunSummary> summaries;
-  for (const LegVariant& variant : variants) {
+  for (size_t i = 0; i < variants.size(); ++i) {
+    const LegVariant& variant = variants[i];
     const std::string dir = variant.name.empty() ? out_dir : (fs::path(out_dir) / variant.name).string();
-    summaries.push_back(run_variant(scene, variant, c.model, in, dir, progress, cp));
+    LegCheckpointing this_cp = cp;
+    if (i != resumed) this_cp.resume.clear();
+    summaries.push_back(run_variant(scene, variant, c.model, in, dir, progress, this_cp));
     if (summaries.back().interrupted) return summaries;  // the user asked to stop: no further variant
   }
   if (!scene.variants.empty()) write_variants_summary(out_dir, scene, summaries);

@@ -350,3 +350,42 @@ TEST(Checkpoint, AResumedLegRunIsBitIdenticalToAnUninterruptedOne) {
   EXPECT_FALSE(fs::exists(dir.file("b/leg.checkpoint")));  // a completed run resumed from it removes it
   EXPECT_EQ(leftovers(dir.file("")), std::vector<std::string>{});
 }
+
+TEST(Checkpoint, AResumedSceneWithVariantsIsBitIdenticalToAnUninterruptedOne) {
+  // The wobble scene's two variants (relaxed, active), shortened: interrupted
+  // in the second, resumed from its checkpoint, which runs the first again.
+  testing_support::TempDir dir("checkpoint_variants");
+  const std::string scene = std::string(TISSUEBENCH_DATA_DIR) + "/scenes/wobble.yaml";
+  const std::string common = " --duration 0.4 --obj-every 0 --quiet";
+  Result r = sh("leg " + scene + " --out " + dir.file("a") + common);
+  ASSERT_EQ(r.code, 0) << r.output;
+  const pid_t pid = start({"leg", scene, "--out", dir.file("b"), "--duration", "0.4", "--obj-every", "0", "--quiet",
+                           "--checkpoint-every", "0.08"},
+                          dir.file("b.log"));
+  ASSERT_TRUE(wait_until_exists(dir.file("b/active/leg.checkpoint"), pid));
+  kill(pid, SIGINT);
+  ASSERT_EQ(wait_for(pid), 130) << testing_support::read_text(dir.file("b.log"));
+  EXPECT_FALSE(fs::exists(dir.file("b/relaxed/leg.checkpoint")));  // the completed variant removed its own
+  EXPECT_EQ(bench::read_results(dir.file("b/active/leg.h5")).status(), "failed");
+  fs::copy_file(dir.file("b/active/leg.checkpoint"), dir.file("kept.checkpoint"));
+  r = sh("leg " + scene + " --out " + dir.file("b") + common + " --resume " + dir.file("b/active/leg.checkpoint"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto ja = nlohmann::json::parse(testing_support::read_text(dir.file("a/summary.json")));
+  const auto jb = nlohmann::json::parse(testing_support::read_text(dir.file("b/summary.json")));
+  for (const char* v : {"relaxed", "active"}) {
+    expect_same_results(dir.file(std::string("a/") + v + "/leg.h5"), dir.file(std::string("b/") + v + "/leg.h5"));
+    EXPECT_EQ(testing_support::read_text(dir.file(std::string("a/") + v + "/leg.csv")),
+              testing_support::read_text(dir.file(std::string("b/") + v + "/leg.csv")))
+        << v;
+    for (const char* k : {"status", "values", "knee_angle_trajectory_deg", "steps", "frames"})
+      EXPECT_EQ(ja.at("variants").at(v).at(k), jb.at("variants").at(v).at(k)) << v << " " << k;
+  }
+  EXPECT_FALSE(fs::exists(dir.file("b/active/leg.checkpoint")));
+  EXPECT_EQ(leftovers(dir.file("")), std::vector<std::string>{});
+  // The same checkpoint against other options matches none of the variants.
+  r = sh("leg " + scene + " --out " + dir.file("c") + " --duration 0.5 --obj-every 0 --quiet --resume " +
+         dir.file("kept.checkpoint"));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("a checkpoint of none of the variants of"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir.file("c/relaxed/leg.h5")));
+}

@@ -30,7 +30,9 @@ struct LegRunSummary {
 
 /// Checkpoints of a leg run (tbio/checkpoint.hpp): DIR/leg.checkpoint every
 /// `every` simulated seconds (at a recorded frame), removed when the run
-/// completes; `resume` continues from one (bit-identical results).
+/// completes; `resume` continues from one (bit-identical results). With
+/// variants each checkpoints into its own folder, and a resume runs the
+/// variants before the checkpoint's again (deterministic) and continues it.
 struct LegCheckpointing {
   double every = 0.0;
   std::string resume;
