@@ -420,17 +420,38 @@ void finish_fem_file(ResultsWriter& writer, const fem::Summary& sum, const RunSu
 
 // The FEM's ParaView frames (fem.vtu) go into OUT_vtu.partial-PID (rank 0's
 // pid, the same on every process) and that folder is renamed onto OUT_vtu when
-// the run ends, complete or failed, so no reader sees a folder whose frames
-// are still being written; an older OUT_vtu is replaced only then. A run
-// refused for its input removes the temporary folder.
+// the solve ends, converged or failed, so no reader sees a folder whose frames
+// are still being written; an older OUT_vtu is replaced only then (and put
+// back if the new one cannot take its place). A run that ends in an error
+// (bad input, a write failure) removes the temporary folder.
 void commit_vtu_folder(const std::string& tmp, const std::string& final_dir) {
-  std::error_code ec;
+  std::error_code ec, ignore;
   const std::string old = tmp + ".old";  // tmp's name is this run's own
   const bool had_old = fs::exists(final_dir);
   if (had_old) fs::rename(final_dir, old, ec);
   if (!ec) fs::rename(tmp, final_dir, ec);
-  if (ec) throw msd::Error(final_dir + ": cannot move the finished frames from " + tmp + " into place (" + ec.message() + ")");
-  if (had_old) fs::remove_all(old, ec);
+  if (ec) {
+    if (had_old && !fs::exists(final_dir)) fs::rename(old, final_dir, ignore);
+    fs::remove_all(tmp, ignore);
+    throw msd::Error(final_dir + ": cannot move the finished frames into place (" + ec.message() + ")");
+  }
+  if (had_old) fs::remove_all(old, ignore);
+}
+
+// commit_vtu_folder on rank 0, its outcome on every process: all of them
+// throw the same error or none does (they go on to the same next job).
+void commit_vtu_folder_everywhere(const std::string& tmp, const std::string& final_dir) {
+  fem::Session::barrier();  // every process has written its pieces
+  std::string failure;
+  if (fem::Session::rank() == 0) {
+    try {
+      commit_vtu_folder(tmp, final_dir);
+    } catch (const msd::Error& e) {
+      failure = e.what();
+    }
+  }
+  failure = fem::Session::broadcast(failure);
+  if (!failure.empty()) throw msd::Error(failure);
 }
 
 }  // namespace
@@ -449,7 +470,12 @@ RunSummary run_fem(const Spec& spec, const std::string& out_path, const Progress
   }
   if (root) {
     if (!out.parent_path().empty()) fs::create_directories(out.parent_path());
-    if (!vtu_dir.empty()) fs::create_directories(vtu_dir);
+    if (!vtu_dir.empty()) {  // a killed run with this pid may have left them
+      std::error_code ignore;
+      fs::remove_all(vtu_dir, ignore);
+      fs::remove_all(vtu_dir + ".old", ignore);
+      fs::create_directories(vtu_dir);
+    }
   }
 
   // The results file is created at the first report, so input errors the
@@ -500,6 +526,7 @@ RunSummary run_fem(const Spec& spec, const std::string& out_path, const Progress
   };
 
   fem::Summary sum;
+  std::error_code ignore_error;
   const std::clock_t cpu_start = std::clock();
   try {
     sum = fem::solve(problem, cb);
@@ -509,12 +536,14 @@ RunSummary run_fem(const Spec& spec, const std::string& out_path, const Progress
     sum = e.summary;
     open_writer();  // a failure before the first report still leaves a record
   } catch (const fem::Error& e) {
-    if (root && !vtu_dir.empty()) fs::remove_all(vtu_dir);
+    if (root && !vtu_dir.empty()) fs::remove_all(vtu_dir, ignore_error);
     throw msd::Error(spec.path + ": " + e.what());
+  } catch (...) {  // a write failure in a callback (the results file on a full disk)
+    if (root && !vtu_dir.empty()) fs::remove_all(vtu_dir, ignore_error);
+    throw;
   }
   if (!vtu_dir.empty()) {
-    fem::Session::barrier();  // every process has written its pieces
-    if (root) commit_vtu_folder(vtu_dir, vtu_final);
+    commit_vtu_folder_everywhere(vtu_dir, vtu_final);
     for (auto& f : sum.vtu_files)
       if (f.rfind(vtu_dir, 0) == 0) f = vtu_final + f.substr(vtu_dir.size());
   }

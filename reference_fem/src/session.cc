@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <memory>
+#include <string>
 
 namespace fem {
 
@@ -25,6 +26,14 @@ Session::~Session() { g_mpi.reset(); }
 int Session::rank() { return static_cast<int>(dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD)); }
 int Session::size() { return static_cast<int>(dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD)); }
 void Session::barrier() { MPI_Barrier(MPI_COMM_WORLD); }
+
+std::string Session::broadcast(const std::string& text) {
+  unsigned long long n = text.size();
+  MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
+  std::string out = rank() == 0 ? text : std::string(n, '\0');
+  if (n > 0) MPI_Bcast(out.data(), static_cast<int>(n), MPI_CHAR, 0, MPI_COMM_WORLD);
+  return out;
+}
 
 long Session::root_pid() {
   long pid = static_cast<long>(getpid());

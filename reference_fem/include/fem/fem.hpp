@@ -40,6 +40,8 @@ class Session {
   /// The process id of rank 0, the same on every process (MPI_Bcast): names
   /// a temporary that all processes share.
   static long root_pid();
+  /// Rank 0's `text` on every process (MPI_Bcast); every process must call it.
+  static std::string broadcast(const std::string& text);
 };
 
 /// The deal.II version the solver was built with (e.g. "9.4.1").
