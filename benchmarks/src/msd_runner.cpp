@@ -4,6 +4,7 @@
 #include "tbio/surface_check.hpp"
 
 #include "tbio/checkpoint.hpp"
+#include "tbio/json.hpp"
 #include "msd/io/interrupt.hpp"
 
 #include <algorithm>
@@ -493,6 +494,7 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
   add_node_set(out, p);  // /fields: every node's displacement at the field frames
   double next_frame = 0.0, next_checkpoint = cp.every;
   if (resumed) {
+    out.set_meta("resumed_from", cp.resume + " at t = " + tbio::json_number(resumed->state.t) + " s");
     out.restore(resumed->results);
     for (const auto& r : resumed->results.rows) note_row(r);
     next_frame = resumed->next_frame;

@@ -63,9 +63,7 @@ void CheckpointWriter::save(const std::string& path) const {
   msd::write_file_atomically(path, [&](std::ostream& out) { out.write(bytes_.data(), static_cast<std::streamsize>(bytes_.size())); });
 }
 
-CheckpointReader::CheckpointReader(const std::string& path, const std::string& kind, const std::string& input_hash,
-                                   const std::string& model_hash)
-    : path_(path) {
+CheckpointReader::CheckpointReader(const std::string& path, CheckpointHeader& header) : path_(path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw msd::Error(path + ": cannot read the checkpoint");
   bytes_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
@@ -76,13 +74,26 @@ CheckpointReader::CheckpointReader(const std::string& path, const std::string& k
   if (version != kCheckpointVersion)
     throw msd::Error(path + ": checkpoint format version " + std::to_string(version) + ", this program reads " +
                      std::to_string(kCheckpointVersion));
-  const std::string k = text();
-  if (k != kind) throw msd::Error(path + ": a checkpoint of '" + k + "', not of '" + kind + "'");
-  if (text() != input_hash)
+  header.kind = text();
+  header.input_hash = text();
+  header.model_hash = text();
+}
+
+CheckpointReader::CheckpointReader(const std::string& path, const std::string& kind, const std::string& input_hash,
+                                   const std::string& model_hash)
+    : CheckpointReader(path, header_) {
+  if (header_.kind != kind) throw msd::Error(path + ": a checkpoint of '" + header_.kind + "', not of '" + kind + "'");
+  if (header_.input_hash != input_hash)
     throw msd::Error(path + ": the checkpoint was written for different input (its spec/scene, calibration or "
                             "options differ from this run's); refused");
-  if (text() != model_hash)
+  if (header_.model_hash != model_hash)
     throw msd::Error(path + ": the checkpoint was written for a different model (mesh or masses differ); refused");
+}
+
+CheckpointHeader read_checkpoint_header(const std::string& path) {
+  CheckpointHeader h;
+  const CheckpointReader r(path, h);
+  return h;
 }
 
 void CheckpointReader::take(void* out, size_t n) {

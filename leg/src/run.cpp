@@ -273,6 +273,7 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
   try {
     if (resumed) {
       l = std::move(*resumed);
+      writer.set_meta("resumed_from", cp.resume + " at t = " + tbio::json_number(l.state.tissue.t) + " s");
       writer.restore(restored);
       for (const auto& r : restored.rows)
         for (size_t c = 0; c < sensors.size() && c < r.size(); ++c) recorded[sensors[c].name].push_back(r[c]);
@@ -329,21 +330,18 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
 
 // The variant a checkpoint belongs to: the one whose input fingerprint
 // (leg_input_hash: the scene, the variant, the options) its header carries.
-size_t checkpoint_variant(const LegScene& scene, const std::vector<LegVariant>& variants, const msd::LegModel& leg,
-                          const std::string& path) {
-  const std::string model_hash = tbio::fingerprint(leg.tissue.rest_positions, leg.tissue.mass);
-  std::string why;
+// With one variant, or a checkpoint not of a leg run, the variant's own
+// reader gives the message (run_variant).
+size_t checkpoint_variant(const LegScene& scene, const std::vector<LegVariant>& variants, const std::string& path) {
+  const tbio::CheckpointHeader h = tbio::read_checkpoint_header(path);
+  if (variants.size() == 1 || h.kind != "leg") return 0;
+  std::string names;
   for (size_t i = 0; i < variants.size(); ++i) {
-    try {
-      const tbio::CheckpointReader probe(path, "leg", leg_input_hash(scene, variants[i]), model_hash);
-      return i;
-    } catch (const msd::Error& e) {
-      why = e.what();
-    }
+    if (h.input_hash == leg_input_hash(scene, variants[i])) return i;
+    names += (i ? ", " : "") + variants[i].name;
   }
-  if (variants.size() == 1) throw msd::Error(why);
-  throw msd::Error(path + ": --resume: a checkpoint of none of the variants of " + scene.file +
-                   " with these options (against the last, '" + variants.back().name + "': " + why + ")");
+  throw msd::Error(path + ": --resume: a checkpoint of none of the variants of " + scene.file + " (" + names +
+                   ") with these options; refused");
 }
 
 // `--out` must not name the scene, its script, its limb or a surface: the
@@ -376,6 +374,12 @@ std::vector<LegRunSummary> run_leg_scene(const LegScene& scene, const std::strin
     throw msd::Error("--checkpoint-every: must be a finite number of simulated seconds > 0");
   const CompiledLeg c = compile_leg(scene);  // input errors surface here, before anything is written
   const Instruments in = make_leg_instruments(c, scene);
+  std::vector<LegVariant> variants = scene.variants;
+  if (variants.empty()) variants.push_back({"", scene.front_activation, scene.back_activation});
+  // Each variant checkpoints into its own folder; a resume continues the
+  // checkpoint's variant, runs the variants before it again (deterministic:
+  // the same results) and the ones after it from rest.
+  const size_t resumed = cp.resume.empty() ? 0 : checkpoint_variant(scene, variants, cp.resume);
   refuse_outputs_over_inputs(scene, c, out_dir);
   const fs::path out(out_dir);
   if (!out.lexically_normal().parent_path().empty()) fs::create_directories(out.lexically_normal().parent_path());
@@ -383,12 +387,6 @@ std::vector<LegRunSummary> run_leg_scene(const LegScene& scene, const std::strin
   if (folder.filename().empty()) folder = folder.parent_path();  // "out/leg/" locks out/leg.lock
   const msd::OutputLock lock(folder.string(), msd::this_command_line());
   fs::create_directories(out_dir);
-  std::vector<LegVariant> variants = scene.variants;
-  if (variants.empty()) variants.push_back({"", scene.front_activation, scene.back_activation});
-  // Each variant checkpoints into its own folder; a resume continues the
-  // checkpoint's variant, runs the variants before it again (deterministic:
-  // the same results) and the ones after it from rest.
-  const size_t resumed = cp.resume.empty() ? 0 : checkpoint_variant(scene, variants, c.model, cp.resume);
   std::vector<LegRunSummary> summaries;
   for (size_t i = 0; i < variants.size(); ++i) {
     const LegVariant& variant = variants[i];

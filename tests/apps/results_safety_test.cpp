@@ -260,6 +260,10 @@ TEST(Checkpoint, AResumedRunIsBitIdenticalToAnUninterruptedOne) {
   ASSERT_EQ(r.code, 0) << r.output;
   expect_same_results(dir.file("a.h5"), dir.file("b.h5"));
   EXPECT_EQ(testing_support::read_text(dir.file("a.csv")), testing_support::read_text(dir.file("b.csv")));
+  // Only the provenance tells them apart: the resumed file names its checkpoint.
+  EXPECT_EQ(bench::read_results(dir.file("a.h5")).meta.count("resumed_from"), 0u);
+  EXPECT_EQ(bench::read_results(dir.file("b.h5")).meta.at("resumed_from").rfind(dir.file("b.h5.checkpoint") + " at t = 0.", 0),
+            0u);
   EXPECT_FALSE(fs::exists(dir.file("b.h5.checkpoint")));  // a completed run resumed from it removes it
   EXPECT_EQ(leftovers(dir.file("")), std::vector<std::string>{});
 }
@@ -382,10 +386,16 @@ TEST(Checkpoint, AResumedSceneWithVariantsIsBitIdenticalToAnUninterruptedOne) {
   }
   EXPECT_FALSE(fs::exists(dir.file("b/active/leg.checkpoint")));
   EXPECT_EQ(leftovers(dir.file("")), std::vector<std::string>{});
+  // The first variant ran again from rest; the second continued from its checkpoint.
+  EXPECT_EQ(bench::read_results(dir.file("b/relaxed/leg.h5")).meta.count("resumed_from"), 0u);
+  EXPECT_EQ(bench::read_results(dir.file("b/active/leg.h5"))
+                .meta.at("resumed_from")
+                .rfind(dir.file("b/active/leg.checkpoint") + " at t = 0.", 0),
+            0u);
   // The same checkpoint against other options matches none of the variants.
   r = sh("leg " + scene + " --out " + dir.file("c") + " --duration 0.5 --obj-every 0 --quiet --resume " +
          dir.file("kept.checkpoint"));
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("a checkpoint of none of the variants of"), std::string::npos) << r.output;
-  EXPECT_FALSE(fs::exists(dir.file("c/relaxed/leg.h5")));
+  EXPECT_FALSE(fs::exists(dir.file("c")));  // refused before anything is written
 }

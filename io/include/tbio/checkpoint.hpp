@@ -36,6 +36,16 @@ class CheckpointWriter {
   std::string bytes_;
 };
 
+/// What a checkpoint was written for: the kind of run and the SHA-256 of its
+/// inputs and of its model.
+struct CheckpointHeader {
+  std::string kind, input_hash, model_hash;
+};
+
+/// The header of the checkpoint at `path`. Throws msd::Error naming the file
+/// when it cannot be read, is not a checkpoint or has another format version.
+CheckpointHeader read_checkpoint_header(const std::string& path);
+
 class CheckpointReader {
  public:
   /// Reads `path` and checks its header against this run; throws msd::Error
@@ -53,9 +63,13 @@ class CheckpointReader {
   const std::string& path() const { return path_; }
 
  private:
+  friend CheckpointHeader read_checkpoint_header(const std::string& path);
+  /// Reads `path`, checks the magic and the version, and reads the header.
+  CheckpointReader(const std::string& path, CheckpointHeader& header);
   void take(void* out, size_t n);
   std::string path_, bytes_;
   size_t at_ = 0;
+  CheckpointHeader header_;
 };
 
 /// SHA-256 of a model's defining arrays (rest positions, masses), so a resume

@@ -48,7 +48,7 @@ std::string leg_checkpoint_path(const std::string& dir);
 /// run), and its files keep every frame written before it. leg.h5 and its CSV
 /// are written under temporary names and renamed into place at the end (an
 /// existing run's files are untouched until then). `progress(t, end)` is
-/// called now and then. Checkpointing is refused for scenes with variants.
+/// called now and then.
 std::vector<LegRunSummary> run_leg_scene(const LegScene& scene, const std::string& out_dir,
                                          const std::function<void(double, double)>& progress = {},
                                          const LegCheckpointing& cp = {});
