@@ -22,7 +22,7 @@ CLI::Validator value_in(T lo, T hi, const std::string& what, bool lo_open, const
   constexpr bool real = std::is_floating_point_v<T>;
   const std::string kind = real ? "a number" : "an integer";
   const auto text_of = [](T v) {
-    if constexpr (real) return std::isinf(v) ? std::string("inf") : CLI::detail::to_string(v);
+    if constexpr (real) return std::isinf(v) ? std::string(v < 0 ? "-inf" : "inf") : CLI::detail::to_string(v);
     else return std::to_string(v);
   };
   const std::string range = std::string(lo_open ? "(" : "[") + text_of(lo) + ", " + text_of(hi) + "]";

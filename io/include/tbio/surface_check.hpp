@@ -28,7 +28,8 @@ struct NamedSurface {
 /// has lines. Each surface must already be closed and manifold
 /// (msd::validate_closed_surface).
 /// Every crossing counts, a fold between neighbouring triangles too (the leg
-/// generator's relaxation never makes one: msd/src/geometry/implicit_surface.cpp).
+/// generator's relaxation no longer turns triangles inwards, which is how it
+/// made the folds the shipped lower bone had: msd/geometry/implicit_surface.hpp).
 void refuse_intersections(const std::vector<NamedSurface>& surfaces,
                           const std::vector<std::pair<int, int>>& must_not_cross);
 

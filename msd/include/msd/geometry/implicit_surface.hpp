@@ -11,10 +11,11 @@
 // outside nodes. Relaxation moves every vertex towards the mean of its
 // neighbours within the tangent plane (grad f), then back onto f = 0 by Newton
 // steps along grad f (central differences), which evens out the slivers
-// marching tetrahedra leaves without moving the surface. A pass never folds
-// the surface: the vertices of a triangle that would turn to face against
-// grad f keep their positions (a fold is a self-intersection, which the limb
-// mesher refuses: tbio/surface_check.hpp).
+// marching tetrahedra leaves without moving the surface. A pass never turns a
+// triangle to face against grad f (at its centroid): the vertices of a
+// triangle that would turn keep their positions. Such turned triangles are
+// how relaxation folded the surface over itself (a self-intersection, which
+// the limb mesher refuses: tbio/surface_check.hpp).
 //
 // Building blocks for fields (each an exact or approximate signed distance):
 // ellipsoids, capsules, elliptic sections, and Quilez's polynomial smooth
