@@ -60,6 +60,17 @@ bool wait_until_exists(const std::string& path, pid_t pid) {
   return false;
 }
 
+// Starts the program with `args` (output to `log`), waits until it has
+// written `checkpoint`, stops it with SIGINT and expects exit 130. Call it
+// inside ASSERT_NO_FATAL_FAILURE.
+void interrupt_after_checkpoint(const std::vector<std::string>& args, const std::string& checkpoint,
+                                const std::string& log) {
+  const pid_t pid = start(args, log);
+  ASSERT_TRUE(wait_until_exists(checkpoint, pid));
+  kill(pid, SIGINT);
+  ASSERT_EQ(wait_for(pid), 130) << testing_support::read_text(log);
+}
+
 std::vector<std::string> leftovers(const std::string& dir) {
   std::vector<std::string> r;
   for (const auto& e : fs::recursive_directory_iterator(dir)) {
@@ -249,12 +260,9 @@ TEST(Checkpoint, AResumedRunIsBitIdenticalToAnUninterruptedOne) {
   Result r = sh("run " + dir.file("s.yaml") + " --out " + dir.file("a.h5") + " --quiet");
   ASSERT_EQ(r.code, 0) << r.output;
   // Interrupted after its first checkpoint, then resumed.
-  const pid_t pid = start({"run", dir.file("s.yaml"), "--out", dir.file("b.h5"), "--quiet", "--checkpoint-every",
-                           "0.05"},
-                          dir.file("b.log"));
-  ASSERT_TRUE(wait_until_exists(dir.file("b.h5.checkpoint"), pid));
-  kill(pid, SIGINT);
-  ASSERT_EQ(wait_for(pid), 130) << testing_support::read_text(dir.file("b.log"));
+  ASSERT_NO_FATAL_FAILURE(interrupt_after_checkpoint(
+      {"run", dir.file("s.yaml"), "--out", dir.file("b.h5"), "--quiet", "--checkpoint-every", "0.05"},
+      dir.file("b.h5.checkpoint"), dir.file("b.log")));
   EXPECT_EQ(bench::read_results(dir.file("b.h5")).status(), "failed");
   r = sh("run " + dir.file("s.yaml") + " --out " + dir.file("b.h5") + " --quiet --resume " + dir.file("b.h5.checkpoint"));
   ASSERT_EQ(r.code, 0) << r.output;
@@ -326,12 +334,9 @@ TEST(Checkpoint, AResumedLegRunIsBitIdenticalToAnUninterruptedOne) {
   const std::string common = " --duration 0.6 --obj-every 3 --quiet";
   Result r = sh("leg " + scene + " --out " + dir.file("a") + common);
   ASSERT_EQ(r.code, 0) << r.output;
-  const pid_t pid = start({"leg", scene, "--out", dir.file("b"), "--duration", "0.6", "--obj-every", "3", "--quiet",
-                           "--checkpoint-every", "0.28"},
-                          dir.file("b.log"));
-  ASSERT_TRUE(wait_until_exists(dir.file("b/leg.checkpoint"), pid));
-  kill(pid, SIGINT);
-  ASSERT_EQ(wait_for(pid), 130) << testing_support::read_text(dir.file("b.log"));
+  ASSERT_NO_FATAL_FAILURE(interrupt_after_checkpoint({"leg", scene, "--out", dir.file("b"), "--duration", "0.6",
+                                                      "--obj-every", "3", "--quiet", "--checkpoint-every", "0.28"},
+                                                     dir.file("b/leg.checkpoint"), dir.file("b.log")));
   EXPECT_EQ(bench::read_results(dir.file("b/leg.h5")).status(), "failed");
   // The frames written after the checkpoint are removed: the resumed run
   // must write them again itself.
@@ -363,12 +368,9 @@ TEST(Checkpoint, AResumedSceneWithVariantsIsBitIdenticalToAnUninterruptedOne) {
   const std::string common = " --duration 0.4 --obj-every 0 --quiet";
   Result r = sh("leg " + scene + " --out " + dir.file("a") + common);
   ASSERT_EQ(r.code, 0) << r.output;
-  const pid_t pid = start({"leg", scene, "--out", dir.file("b"), "--duration", "0.4", "--obj-every", "0", "--quiet",
-                           "--checkpoint-every", "0.08"},
-                          dir.file("b.log"));
-  ASSERT_TRUE(wait_until_exists(dir.file("b/active/leg.checkpoint"), pid));
-  kill(pid, SIGINT);
-  ASSERT_EQ(wait_for(pid), 130) << testing_support::read_text(dir.file("b.log"));
+  ASSERT_NO_FATAL_FAILURE(interrupt_after_checkpoint({"leg", scene, "--out", dir.file("b"), "--duration", "0.4",
+                                                      "--obj-every", "0", "--quiet", "--checkpoint-every", "0.08"},
+                                                     dir.file("b/active/leg.checkpoint"), dir.file("b.log")));
   EXPECT_FALSE(fs::exists(dir.file("b/relaxed/leg.checkpoint")));  // the completed variant removed its own
   EXPECT_EQ(bench::read_results(dir.file("b/active/leg.h5")).status(), "failed");
   fs::copy_file(dir.file("b/active/leg.checkpoint"), dir.file("kept.checkpoint"));
