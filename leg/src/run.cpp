@@ -333,8 +333,9 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
 // With one variant, or a checkpoint not of a leg run, the variant's own
 // reader gives the message (run_variant).
 size_t checkpoint_variant(const LegScene& scene, const std::vector<LegVariant>& variants, const std::string& path) {
+  if (variants.size() == 1) return 0;  // no need to read the file twice
   const tbio::CheckpointHeader h = tbio::read_checkpoint_header(path);
-  if (variants.size() == 1 || h.kind != "leg") return 0;
+  if (h.kind != "leg") return 0;
   std::string names;
   for (size_t i = 0; i < variants.size(); ++i) {
     if (h.input_hash == leg_input_hash(scene, variants[i])) return i;
