@@ -2,6 +2,7 @@
 
 #include "msd/forces/element_forces.hpp"
 #include "msd/forces/force_engine.hpp"
+#include "msd/integrate/implicit.hpp"
 
 #include <cmath>
 
@@ -11,8 +12,9 @@ Integrator parse_integrator(const std::string& name) {
   if (name == "explicit_euler") return Integrator::ExplicitEuler;
   if (name == "symplectic_euler" || name == "semi_implicit_euler") return Integrator::SymplecticEuler;
   if (name == "velocity_verlet") return Integrator::VelocityVerlet;
+  if (name == "backward_euler") return Integrator::BackwardEuler;
   throw Error("unknown integrator '" + name +
-              "' (expected explicit_euler, symplectic_euler or velocity_verlet)");
+              "' (expected explicit_euler, symplectic_euler, velocity_verlet or backward_euler)");
 }
 
 std::string to_string(Integrator integrator) {
@@ -20,6 +22,7 @@ std::string to_string(Integrator integrator) {
     case Integrator::ExplicitEuler: return "explicit_euler";
     case Integrator::SymplecticEuler: return "symplectic_euler";
     case Integrator::VelocityVerlet: return "velocity_verlet";
+    case Integrator::BackwardEuler: return "backward_euler";
   }
   return "?";
 }
@@ -138,6 +141,9 @@ void step(const Model& model, State& state, const Controls& controls, double dt,
       state.a_valid = true;
       break;
     }
+    case Integrator::BackwardEuler:
+      step_backward_euler(model, state, controls, dt, scratch);
+      break;
   }
   if (integrator != Integrator::VelocityVerlet) state.a_valid = false;
   state.t += dt;

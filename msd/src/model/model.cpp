@@ -39,6 +39,13 @@ Model build_model(const TetMesh& mesh, const ModelOptions& options) {
   if (options.threads < 1)
     throw Error("threads must be at least 1, got " + std::to_string(options.threads));
   model.threads = options.threads;
+  if (!(options.newton.tolerance > 0.0 && options.newton.tolerance < 1.0))
+    throw Error("newton tolerance must be in (0, 1), got " + std::to_string(options.newton.tolerance));
+  if (options.newton.max_iterations < 1)
+    throw Error("newton max_iterations must be at least 1, got " + std::to_string(options.newton.max_iterations));
+  if (options.newton.max_step_cuts < 0)
+    throw Error("newton max_step_cuts must be at least 0, got " + std::to_string(options.newton.max_step_cuts));
+  model.newton = options.newton;
   model.reference_forces = options.reference_forces;
   for (size_t r = 0; r < options.region_materials.size(); ++r)
     check_material(options.region_materials[r], "material of region " + std::to_string(r));

@@ -21,15 +21,14 @@
 namespace {
 std::atomic<long> g_allocations{0};
 }
-void* operator new(std::size_t n) {
+__attribute__((noinline)) void* operator new(std::size_t n) {
   ++g_allocations;
   if (void* p = std::malloc(n ? n : 1)) return p;
   throw std::bad_alloc();
 }
-// Out of line: inlined into a caller of `new` (gtest's CreateTest), gcc at -O1
-// with the sanitizers (TISSUEBENCH_SANITIZE) sees free() on a pointer from
-// operator new and, not knowing that this file's operator new is malloc, warns
-// -Wmismatched-new-delete.
+// New and delete out of line: inlined into their callers (gtest's CreateTest,
+// a unique_ptr's destructor), gcc sees malloc paired with a sized delete or
+// free() on a pointer from operator new and warns -Wmismatched-new-delete.
 __attribute__((noinline)) void operator delete(void* p) noexcept { std::free(p); }
 __attribute__((noinline)) void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 

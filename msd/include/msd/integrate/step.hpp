@@ -9,6 +9,8 @@
 //  - Velocity Verlet (kick-drift-kick; dampers see the half-step velocity):
 //      v' = v + dt/2 a,  x+ = x + dt v',  a+ = a(x+, v'),  v+ = v' + dt/2 a+
 //    One force evaluation per step: a+ is kept in the State for the next step.
+//  - Backward Euler (implicit, msd/integrate/implicit.hpp):
+//      v+ = v + dt a(x+, v+),  x+ = x + dt v+,  solved by Newton's method.
 // Constrained components of kinematic-group nodes are set to the prescribed
 // position and velocity after each update; then surface nodes that entered a
 // rigid obstacle are moved out of it (msd/contact/rigid_obstacle.hpp).
@@ -20,10 +22,10 @@
 
 namespace msd {
 
-enum class Integrator { ExplicitEuler, SymplecticEuler, VelocityVerlet };
+enum class Integrator { ExplicitEuler, SymplecticEuler, VelocityVerlet, BackwardEuler };
 
 /// Parses "explicit_euler", "symplectic_euler" (or "semi_implicit_euler"),
-/// "velocity_verlet".
+/// "velocity_verlet", "backward_euler".
 Integrator parse_integrator(const std::string& name);
 std::string to_string(Integrator integrator);
 

@@ -11,10 +11,22 @@
 
 #include <Eigen/Core>
 
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace msd {
+
+/// Newton's method inside the implicit integrator (msd/integrate/implicit.hpp):
+/// a step has converged when the largest residual component is at most
+/// `tolerance` times the largest term in the balance (momentum, internal and
+/// external impulse); a step that has not after `max_iterations` is retried
+/// as two half steps, at most `max_step_cuts` times over, then fails.
+struct NewtonOptions {
+  double tolerance = 1e-8;
+  int max_iterations = 20;
+  int max_step_cuts = 6;
+};
 
 /// Force terms; a model evaluates only those it was built with.
 enum ForceTerm : unsigned {
@@ -93,6 +105,7 @@ struct Model {
   /// Evaluate with the per-tet reference loop instead of the engine (the path
   /// the engine replaced: for verification and side-by-side timing).
   bool reference_forces = false;
+  NewtonOptions newton;  ///< the implicit integrator's Newton iterations
 
   int num_nodes() const { return static_cast<int>(rest_positions.cols()); }
   int num_elements() const { return static_cast<int>(elements.size()); }
@@ -114,6 +127,7 @@ struct ModelOptions {
   /// every count (msd/forces/force_engine.hpp).
   int threads = 1;
   bool reference_forces = false;  ///< see Model::reference_forces
+  NewtonOptions newton;           ///< see Model::newton
 };
 
 /// Compiles a model: checks the mesh and materials, computes rest data and
@@ -145,12 +159,20 @@ struct Controls {
   double load_scale = 1.0;
 };
 
+struct ImplicitWorkspace;  // msd/integrate/implicit.hpp
+
 /// Reused buffers and per-evaluation diagnostics.
 struct Scratch {
   Points f;                        ///< internal force per node (no gravity)
   long nonlinear_active = 0;       ///< elements whose non-linear terms ran
   Points edge_force;               ///< 3 x E: force on each edge's node a (b gets minus)
   Points corner_force;             ///< 3 x 4T: non-linear force on each tet corner
+  /// The implicit integrator's matrix, factorisation and vectors (made on its
+  /// first step, then reused).
+  std::shared_ptr<ImplicitWorkspace> implicit;
+  long newton_iterations = 0;      ///< Newton iterations of the implicit steps so far
+  int last_newton_iterations = 0;  ///< of the last implicit step
+  int last_step_cuts = 0;          ///< times the last implicit step was halved
 };
 
 }  // namespace msd

@@ -1,0 +1,55 @@
+// Backward Euler for stiff scenes (issue 16): the step solves, for the
+// velocities v+ at t + dt,
+//   G(v+) = M (v+ - v) - dt [ f(x + dt v+, v+) + s f_ext + s M g ] = 0,
+//   x+ = x + dt v+,
+// by Newton's method with the exact Jacobian
+//   dG/dv+ = M - dt D - dt^2 K,   K = df/dx,  D = df/dv
+// of every element term (msd/forces/jacobians.hpp), assembled into one sparse
+// matrix with a fixed pattern (a 3 x 3 block per node and per edge: every pair
+// of a tet's vertices is an edge) and solved by Eigen's sparse LU (the volume
+// term is not a gradient, so the matrix is not symmetric), with a backtracking
+// line search on |G|. Prescribed components (kinematic groups) take their
+// values at t + dt and drop out of the system; rigid obstacles are resolved
+// after the solve, as in the explicit steppers (step.hpp). First order and
+// unconditionally stable for the linear terms: it damps the highest
+// frequencies instead of blowing up, so its step is chosen for accuracy,
+// not for the stiffest spring.
+#pragma once
+
+#include "msd/model/model.hpp"
+
+#include <Eigen/SparseCore>
+
+namespace msd {
+
+/// The matrix layout: 3N x 3N column-compressed with one 3 x 3 block per node
+/// and per ordered pair of nodes that share an edge. Built once per model.
+struct SystemLayout {
+  Eigen::SparseMatrix<double> pattern;  ///< every stored entry, values zero
+  /// For each block, the index into the value array of row 0 of its column c
+  /// (c = 0, 1, 2: entry (r, c) of the block at [3 id + c] + r). Blocks: node
+  /// n's diagonal is n; edge e's (a, b) block is N + 2 e, its (b, a) block N + 2 e + 1.
+  std::vector<int> column_start;
+  /// Per tet, the block of its local vertex pair (i, j) at [16 t + 4 i + j].
+  std::vector<int> tet_block;
+  /// Per degree of freedom (3 n + axis): prescribed by a kinematic group.
+  std::vector<char> fixed;
+};
+
+SystemLayout make_system_layout(const Model& model);
+
+/// Assembles  A = c_m M + c_d D + c_k K  at (x, v) into A (which must have the
+/// layout's pattern; values overwritten). K and D are the exact Jacobians of the
+/// internal forces (springs, dampers, repulsion, volume, as the model has them;
+/// gravity and dead loads do not depend on x or v). Prescribed rows and columns
+/// are left as assembled.
+void assemble_system(const Model& model, const SystemLayout& layout, const Points& x, const Points& v, double c_m,
+                     double c_d, double c_k, Eigen::SparseMatrix<double>& A);
+
+/// One backward-Euler step (called by step() for Integrator::BackwardEuler).
+/// Throws SimulationFailure naming the time, step, node with the largest
+/// residual and the residual when Newton does not converge in
+/// model.newton.max_iterations.
+void step_backward_euler(const Model& model, State& state, const Controls& controls, double dt, Scratch& scratch);
+
+}  // namespace msd

@@ -1,0 +1,119 @@
+#include "msd/forces/jacobians.hpp"
+
+#include "msd/forces/face_repulsion.hpp"
+#include "msd/forces/tet_frame.hpp"
+#include "msd/forces/volume_preservation.hpp"
+
+#include <algorithm>
+
+namespace msd {
+
+Mat3 edge_spring_jacobian(const Vec3& l, double rest, double ks) {
+  const double length = l.norm();
+  const Vec3 u = l / length;
+  return ks * ((1.0 - rest / length) * Mat3::Identity() + (rest / length) * u * u.transpose());
+}
+
+void edge_damper_jacobians(const Vec3& l, const Vec3& w, double kd, Mat3& dfa_dl, Mat3& dfa_dw) {
+  const double l2 = l.squaredNorm();
+  const double wl = w.dot(l);
+  dfa_dw = (kd / l2) * l * l.transpose();
+  dfa_dl = (kd / l2) * (l * w.transpose() + wl * Mat3::Identity() - (2.0 * wl / l2) * l * l.transpose());
+}
+
+double face_repulsion_slope(double x, double x0, double kr, double floor) {
+  const double xc = floor * x0;
+  const double at = x >= xc ? x : xc;
+  return -kr * (x0 * x0 / (at * at) + 1.0);
+}
+
+namespace {
+
+// The shape measures of tet_frame plus the edges they came from.
+struct Frame {
+  TetFrame g;
+  Vec3 e[4];  // e[1..3] = x_k - x_0
+  double n[4];
+  double six_v;
+};
+
+Frame frame(const Vec3 x[4]) {
+  Frame f;
+  f.g = tet_frame(x);
+  for (int k = 1; k < 4; ++k) f.e[k] = x[k] - x[0];
+  for (int i = 0; i < 4; ++i) f.n[i] = 1.0 / f.g.inv_norm[i];
+  f.six_v = 6.0 * f.g.volume;
+  return f;
+}
+
+}  // namespace
+
+bool nonlinear_element_jacobian(const Model& model, const Element& el, const Vec3 x[4], Mat12& K) {
+  K.setZero();
+  const unsigned terms = model.terms;
+  if (!(terms & (kRepulsion | kVolume))) return false;
+  const Frame fr = frame(x);
+  const TetFrame& g = fr.g;
+  if (model.nonlinear_threshold > 0.0) {
+    double ratio = g.height[0] / el.rest_height[0];
+    for (int i = 1; i < 4; ++i) ratio = std::min(ratio, g.height[i] / el.rest_height[i]);
+    if (ratio >= model.nonlinear_threshold) return false;
+  }
+  const bool rep = terms & kRepulsion, vol = terms & kVolume;
+  // Magnitudes and their derivatives with respect to h_i (repulsion) and to
+  // 6V and |m_i| (volume), at the current shape.
+  double f[4], dfdh[4], p[4], s[4], d[4][4];
+  for (int i = 0; i < 4; ++i) {
+    f[i] = 0.0;
+    dfdh[i] = 0.0;
+    if (rep) {
+      f[i] += face_repulsion_magnitude(g.height[i], el.rest_height[i], el.k.k_r[i], el.floor);
+      dfdh[i] = face_repulsion_slope(g.height[i], el.rest_height[i], el.k.k_r[i], el.floor);
+    }
+    if (vol) f[i] += volume_force_magnitude(g, i, el.rest_volume, el.k.k_v[i]);
+    p[i] = f[i] / fr.n[i];
+    s[i] = p[i] / (fr.n[i] * fr.n[i]);
+  }
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) d[i][j] = g.m[i].dot(g.m[j]);
+  for (int k = 0; k < 4; ++k)
+    for (int c = 0; c < 3; ++c) {
+      // Direction: x_k moves along axis c.
+      Vec3 de[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+      for (int q = 1; q < 4; ++q) {
+        if (q == k) de[q][c] += 1.0;
+        if (k == 0) de[q][c] -= 1.0;
+      }
+      Vec3 dm[4];
+      dm[1] = de[2].cross(fr.e[3]) + fr.e[2].cross(de[3]);
+      dm[2] = de[3].cross(fr.e[1]) + fr.e[3].cross(de[1]);
+      dm[3] = de[1].cross(fr.e[2]) + fr.e[1].cross(de[2]);
+      dm[0] = -(dm[1] + dm[2] + dm[3]);
+      const double d6v = g.m[k][c];  // d(6V)/dx_k = m_k
+      double df[4], dp[4], ds[4];
+      for (int i = 0; i < 4; ++i) {
+        const double n = fr.n[i];
+        const double dn = g.m[i].dot(dm[i]) / n;
+        df[i] = 0.0;
+        if (rep) df[i] += dfdh[i] * (d6v / n - fr.six_v * dn / (n * n));
+        if (vol) {
+          const double kv = el.k.k_v[i];
+          df[i] += -kv * d6v / n - kv * 6.0 * (el.rest_volume - g.volume) * dn / (n * n);
+        }
+        dp[i] = df[i] / n - f[i] * dn / (n * n);
+        ds[i] = df[i] / (n * n * n) - 3.0 * f[i] * dn / (n * n * n * n);
+      }
+      for (int j = 0; j < 4; ++j) {
+        Vec3 dF = dp[j] * g.m[j] + p[j] * dm[j];
+        for (int i = 0; i < 4; ++i) {
+          if (i == j) continue;
+          const double ddij = dm[i].dot(g.m[j]) + g.m[i].dot(dm[j]);
+          dF += (ds[i] * d[i][j] + s[i] * ddij) * g.m[i] + (s[i] * d[i][j]) * dm[i];
+        }
+        K.block<3, 1>(3 * j, 3 * k + c) = dF;
+      }
+    }
+  return true;
+}
+
+}  // namespace msd

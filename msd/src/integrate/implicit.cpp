@@ -1,0 +1,341 @@
+#include "msd/integrate/implicit.hpp"
+
+#include "msd/forces/jacobians.hpp"
+#include "msd/integrate/step.hpp"
+#include "msd/mesh/tet_mesh.hpp"
+
+#include <Eigen/SparseLU>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <limits>
+
+namespace msd {
+
+SystemLayout make_system_layout(const Model& model) {
+  const int n = model.num_nodes();
+  const ForcePlan& p = model.plan;
+  const int blocks = n + 2 * p.num_edges();
+  std::vector<std::pair<int, int>> block_nodes(static_cast<size_t>(blocks));
+  for (int i = 0; i < n; ++i) block_nodes[static_cast<size_t>(i)] = {i, i};
+  for (int e = 0; e < p.num_edges(); ++e) {
+    block_nodes[static_cast<size_t>(n + 2 * e)] = {p.edge_a[static_cast<size_t>(e)], p.edge_b[static_cast<size_t>(e)]};
+    block_nodes[static_cast<size_t>(n + 2 * e + 1)] = {p.edge_b[static_cast<size_t>(e)], p.edge_a[static_cast<size_t>(e)]};
+  }
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(9 * static_cast<size_t>(blocks));
+  for (const auto& [r, c] : block_nodes)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) entries.emplace_back(3 * r + i, 3 * c + j, 0.0);
+  SystemLayout L;
+  L.pattern.resize(3 * n, 3 * n);
+  L.pattern.setFromTriplets(entries.begin(), entries.end());
+  L.pattern.makeCompressed();
+  L.column_start.resize(3 * static_cast<size_t>(blocks));
+  const int* outer = L.pattern.outerIndexPtr();
+  const int* inner = L.pattern.innerIndexPtr();
+  for (int b = 0; b < blocks; ++b) {
+    const auto [r, c] = block_nodes[static_cast<size_t>(b)];
+    for (int j = 0; j < 3; ++j) {
+      const int col = 3 * c + j;
+      const int* at = std::lower_bound(inner + outer[col], inner + outer[col + 1], 3 * r);
+      L.column_start[3 * static_cast<size_t>(b) + static_cast<size_t>(j)] = static_cast<int>(at - inner);
+    }
+  }
+  // Each tet's vertex pairs: the node's diagonal or the edge joining them.
+  L.tet_block.resize(16 * model.elements.size());
+  for (size_t t = 0; t < model.elements.size(); ++t) {
+    const Tet& nodes = model.elements[t].nodes;
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) {
+        const int a = nodes[static_cast<size_t>(i)], b = nodes[static_cast<size_t>(j)];
+        int id = a;
+        if (a != b) {
+          id = -1;
+          for (int k = p.node_edge_offset[static_cast<size_t>(a)]; k < p.node_edge_offset[static_cast<size_t>(a) + 1]; ++k) {
+            const int r = p.node_edge[static_cast<size_t>(k)];
+            const int e = r / 2;
+            const bool a_is_b_end = r & 1;
+            const int other = a_is_b_end ? p.edge_a[static_cast<size_t>(e)] : p.edge_b[static_cast<size_t>(e)];
+            if (other == b) id = n + 2 * e + (a_is_b_end ? 1 : 0);
+          }
+          if (id < 0) throw Error("system layout: tet " + std::to_string(t) + " has a vertex pair without an edge");
+        }
+        L.tet_block[16 * t + 4 * static_cast<size_t>(i) + static_cast<size_t>(j)] = id;
+      }
+  }
+  L.fixed.assign(3 * static_cast<size_t>(n), 0);
+  for (const KinematicGroup& g : model.groups)
+    for (int node : g.nodes)
+      for (int a = 0; a < 3; ++a)
+        if (g.axes[a]) L.fixed[3 * static_cast<size_t>(node) + static_cast<size_t>(a)] = 1;
+  return L;
+}
+
+namespace {
+
+inline void add_block(double* values, const SystemLayout& L, int block, const Mat3& B, double c) {
+  for (int j = 0; j < 3; ++j) {
+    double* col = values + L.column_start[3 * static_cast<size_t>(block) + static_cast<size_t>(j)];
+    for (int i = 0; i < 3; ++i) col[i] += c * B(i, j);
+  }
+}
+
+// An edge term's four blocks from B = dF_a/dl: (a,a) and (b,b) get -B, (a,b)
+// and (b,a) get +B.
+inline void add_edge_blocks(double* values, const SystemLayout& L, int n, int e, int a, int b, const Mat3& B,
+                            double c) {
+  add_block(values, L, a, B, -c);
+  add_block(values, L, b, B, -c);
+  add_block(values, L, n + 2 * e, B, c);
+  add_block(values, L, n + 2 * e + 1, B, c);
+}
+
+}  // namespace
+
+void assemble_system(const Model& model, const SystemLayout& L, const Points& x, const Points& v, double c_m,
+                     double c_d, double c_k, Eigen::SparseMatrix<double>& A) {
+  double* values = A.valuePtr();
+  std::fill(values, values + A.nonZeros(), 0.0);
+  const int n = model.num_nodes();
+  if (c_m != 0.0)
+    for (int i = 0; i < n; ++i) add_block(values, L, i, Mat3::Identity(), c_m * model.mass[i]);
+  const ForcePlan& p = model.plan;
+  const bool springs = model.terms & kSprings, dampers = model.terms & kDampers;
+  if (springs || dampers)
+    for (int e = 0; e < p.num_edges(); ++e) {
+      const int a = p.edge_a[static_cast<size_t>(e)], b = p.edge_b[static_cast<size_t>(e)];
+      const Vec3 l = x.col(b) - x.col(a);
+      if (springs && c_k != 0.0)
+        add_edge_blocks(values, L, n, e, a, b, edge_spring_jacobian(l, p.edge_rest[static_cast<size_t>(e)], p.edge_k_s[static_cast<size_t>(e)]), c_k);
+      if (dampers) {
+        Mat3 dl, dw;
+        edge_damper_jacobians(l, Vec3(v.col(b) - v.col(a)), p.edge_k_d[static_cast<size_t>(e)], dl, dw);
+        if (c_k != 0.0) add_edge_blocks(values, L, n, e, a, b, dl, c_k);
+        if (c_d != 0.0) add_edge_blocks(values, L, n, e, a, b, dw, c_d);
+      }
+    }
+  if (c_k != 0.0 && (model.terms & (kRepulsion | kVolume))) {
+    Mat12 K;
+    for (size_t t = 0; t < model.elements.size(); ++t) {
+      const Element& el = model.elements[t];
+      Vec3 xe[4];
+      for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[static_cast<size_t>(i)]);
+      if (!nonlinear_element_jacobian(model, el, xe, K)) continue;
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j)
+          add_block(values, L, L.tet_block[16 * t + 4 * static_cast<size_t>(i) + static_cast<size_t>(j)],
+                    K.block<3, 3>(3 * i, 3 * j), c_k);
+    }
+  }
+}
+
+// The workspace of the implicit steps: layout, matrix, factorisation, vectors.
+struct ImplicitWorkspace {
+  int nodes = -1, edges = -1;
+  SystemLayout layout;
+  Eigen::SparseMatrix<double> A;
+  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+  Points x1, v1, v_trial, r, load;
+  Eigen::VectorXd rhs, delta;
+};
+
+namespace {
+
+ImplicitWorkspace& workspace(const Model& model, Scratch& scratch) {
+  if (!scratch.implicit) scratch.implicit = std::make_shared<ImplicitWorkspace>();
+  ImplicitWorkspace& w = *scratch.implicit;
+  if (w.nodes != model.num_nodes() || w.edges != model.plan.num_edges()) {
+    w.layout = make_system_layout(model);
+    w.A = w.layout.pattern;
+    w.lu.analyzePattern(w.A);
+    w.nodes = model.num_nodes();
+    w.edges = model.plan.num_edges();
+  }
+  return w;
+}
+
+// x1 = x + dt v1 on free components; prescribed ones at their values at t + dt.
+void positions_from_velocities(const Model& model, const State& s, const Controls& c, double dt,
+                               ImplicitWorkspace& w) {
+  w.x1 = s.x + dt * w.v1;
+  for (size_t g = 0; g < model.groups.size(); ++g) {
+    const KinematicGroup& grp = model.groups[g];
+    for (int node : grp.nodes)
+      for (int a = 0; a < 3; ++a)
+        if (grp.axes[a]) {
+          w.x1(a, node) = model.rest_positions(a, node) + c.group_offset.at(g)[a];
+          w.v1(a, node) = c.group_velocity.at(g)[a];
+        }
+  }
+}
+
+// G at (x1, v1) into w.r (prescribed components zero); returns max |G_i|,
+// sets `l2` to |G| and `scale` to the largest term in the balance.
+double residual(const Model& model, const State& s, double time, double dt, ImplicitWorkspace& w, Scratch& scratch,
+                double& scale, double& l2) {
+  State at;  // evaluate_forces reads x and v only
+  at.x.swap(w.x1);
+  at.v.swap(w.v1);
+  at.t = time;
+  at.step = s.step + 1;
+  bool finite = true;
+  try {
+    evaluate_forces(model, at, scratch);
+  } catch (const SimulationFailure&) {
+    finite = false;  // an iterate that degenerates an element: no residual
+  }
+  w.x1.swap(at.x);
+  w.v1.swap(at.v);
+  if (!finite) {
+    scale = l2 = std::numeric_limits<double>::infinity();
+    return scale;
+  }
+  const Points& f = scratch.f;
+  // The balance's largest term: momenta (their round-off bounds how small G
+  // can get), the momentum change, and the forces times dt.
+  scale = std::max((w.v1 * model.mass.asDiagonal()).cwiseAbs().maxCoeff(),
+                   (s.v * model.mass.asDiagonal()).cwiseAbs().maxCoeff());
+  w.r = (w.v1 - s.v) * model.mass.asDiagonal();
+  scale = std::max({scale, w.r.cwiseAbs().maxCoeff(), dt * f.cwiseAbs().maxCoeff(), dt * w.load.cwiseAbs().maxCoeff()});
+  w.r -= dt * (f + w.load);
+  double worst = 0.0, sum = 0.0;
+  for (Eigen::Index i = 0; i < w.r.size(); ++i) {
+    if (w.layout.fixed[static_cast<size_t>(i)]) w.r.data()[i] = 0.0;
+    worst = std::max(worst, std::abs(w.r.data()[i]));
+    sum += w.r.data()[i] * w.r.data()[i];
+  }
+  l2 = std::isfinite(sum) ? std::sqrt(sum) : std::numeric_limits<double>::infinity();
+  if (!std::isfinite(sum)) worst = l2;
+  return worst;
+}
+
+// Prescribed rows and columns become identity rows (their update is zero).
+void fix_prescribed(const SystemLayout& L, Eigen::SparseMatrix<double>& A) {
+  double* values = A.valuePtr();
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  for (int col = 0; col < A.cols(); ++col)
+    for (int k = outer[col]; k < outer[col + 1]; ++k) {
+      const int row = inner[k];
+      if (L.fixed[static_cast<size_t>(col)] || L.fixed[static_cast<size_t>(row)]) values[k] = row == col ? 1.0 : 0.0;
+    }
+}
+
+// What the last Newton solve reached.
+struct NewtonResult {
+  bool converged = false;
+  int iterations = 0;
+  double residual = 0.0, scale = 0.0;  // max |G_i| and the balance's largest term
+  std::string why;
+};
+
+// Newton's method on G(v+) = 0 for one step of dt from `s` to time `time`;
+// leaves the iterate in w.x1, w.v1.
+NewtonResult newton(const Model& model, const State& s, const Controls& c, double time, double dt,
+                    ImplicitWorkspace& w, Scratch& scratch) {
+  const double tol = model.newton.tolerance;
+  NewtonResult out;
+  w.v1 = s.v;
+  positions_from_velocities(model, s, c, dt, w);
+  double l2 = 0.0;
+  out.residual = residual(model, s, time, dt, w, scratch, out.scale, l2);
+  while (!(out.residual <= tol * out.scale)) {
+    if (!std::isfinite(out.residual)) {
+      out.why = "met non-finite forces";
+      return out;
+    }
+    if (out.iterations == model.newton.max_iterations) {
+      out.why = "did not converge";
+      return out;
+    }
+    ++out.iterations;
+    assemble_system(model, w.layout, w.x1, w.v1, 1.0, -dt, -dt * dt, w.A);
+    fix_prescribed(w.layout, w.A);
+    w.lu.factorize(w.A);
+    if (w.lu.info() != Eigen::Success) {
+      out.why = "met a singular matrix";
+      return out;
+    }
+    w.rhs = -Eigen::Map<const Eigen::VectorXd>(w.r.data(), w.r.size());
+    w.delta = w.lu.solve(w.rhs);
+    // Backtracking on |G| (the exact Newton direction descends it): halve the
+    // update until |G| decreases, at most 10 times.
+    w.v_trial = w.v1;
+    double alpha = 1.0;
+    for (int ls = 0;; ++ls) {
+      w.v1 = w.v_trial + alpha * Eigen::Map<const Points>(w.delta.data(), 3, model.num_nodes());
+      positions_from_velocities(model, s, c, dt, w);
+      double scale = 0.0, trial_l2 = 0.0;
+      const double trial = residual(model, s, time, dt, w, scratch, scale, trial_l2);
+      if (trial_l2 < l2 || ls == 10) {
+        out.residual = trial;
+        out.scale = scale;
+        l2 = trial_l2;
+        break;
+      }
+      alpha *= 0.5;
+    }
+  }
+  out.converged = true;
+  return out;
+}
+
+// The prescribed offset of group g now (from its first node's prescribed axes).
+Vec3 group_offset_now(const Model& model, const State& s, size_t g, const Vec3& target) {
+  const KinematicGroup& grp = model.groups[g];
+  Vec3 off = target;
+  if (grp.nodes.empty()) return off;
+  const int n = grp.nodes.front();
+  for (int a = 0; a < 3; ++a)
+    if (grp.axes[a]) off[a] = s.x(a, n) - model.rest_positions(a, n);
+  return off;
+}
+
+// Advances s by dt to `time`: one Newton solve, or - when it fails - two
+// half steps (prescribed offsets halfway), up to max_step_cuts times.
+void advance(const Model& model, State& s, const Controls& c, double time, double dt, int cuts, ImplicitWorkspace& w,
+             Scratch& scratch) {
+  const NewtonResult r = newton(model, s, c, time, dt, w, scratch);
+  scratch.last_newton_iterations += r.iterations;
+  if (r.converged) {
+    s.x = w.x1;
+    s.v = w.v1;
+    return;
+  }
+  if (cuts == model.newton.max_step_cuts) {
+    Eigen::Index axis = 0, node = 0;
+    w.r.cwiseAbs().maxCoeff(&axis, &node);
+    std::ostringstream m;
+    m << "backward Euler: Newton " << r.why << " after " << r.iterations << " iterations with the step cut "
+      << cuts << " times to " << dt << " s (residual " << r.residual / dt << " N, tolerance "
+      << model.newton.tolerance * r.scale / dt << " N)";
+    throw SimulationFailure(m.str(), time, s.step + 1, -1, static_cast<int>(node));
+  }
+  Controls mid = c;
+  for (size_t g = 0; g < model.groups.size(); ++g)
+    mid.group_offset[g] = 0.5 * (group_offset_now(model, s, g, c.group_offset[g]) + c.group_offset[g]);
+  ++scratch.last_step_cuts;
+  advance(model, s, mid, time - 0.5 * dt, 0.5 * dt, cuts + 1, w, scratch);
+  advance(model, s, c, time, 0.5 * dt, cuts + 1, w, scratch);
+}
+
+}  // namespace
+
+void step_backward_euler(const Model& model, State& state, const Controls& controls, double dt, Scratch& scratch) {
+  ImplicitWorkspace& w = workspace(model, scratch);
+  if (controls.group_offset.size() < model.groups.size() || controls.group_velocity.size() < model.groups.size())
+    throw Error("backward Euler: controls for " + std::to_string(model.groups.size()) + " kinematic groups needed");
+  const double s = controls.load_scale;
+  // Dead loads: s f_ext + s M g.
+  w.load.setZero(3, model.num_nodes());
+  if (model.external_force.cols() == model.num_nodes()) w.load = s * model.external_force;
+  if (model.terms & kGravity) w.load += (s * model.gravity) * model.mass.transpose();
+  scratch.last_newton_iterations = 0;
+  scratch.last_step_cuts = 0;
+  advance(model, state, controls, state.t + dt, dt, 0, w, scratch);
+  scratch.newton_iterations += scratch.last_newton_iterations;
+}
+
+}  // namespace msd

@@ -1,0 +1,264 @@
+#include "msd/integrate/implicit.hpp"
+
+#include "msd/forces/element_forces.hpp"
+#include "msd/integrate/step.hpp"
+#include "msd/mesh/cubic_grid.hpp"
+#include "msd/mesh/tet_mesh.hpp"
+
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using msd::Vec3;
+
+namespace {
+
+constexpr unsigned kAll = msd::kSprings | msd::kDampers | msd::kRepulsion | msd::kVolume;
+
+// A 3 x 2 x 4 cm block at h = 1 cm with physical constants; `base` pins the
+// nodes of its bottom face (z = 0) and `top` moves the top face (z = 4 cm).
+msd::Model block(unsigned terms, int threads = 1, bool platens = false, double E = 3000.0) {
+  msd::SampleMeshOptions o;
+  o.spacing = 0.01;
+  auto s = msd::mesh_closed_surface(msd::make_box(Vec3::Zero(), Vec3(0.03, 0.02, 0.04)), o, "block");
+  msd::TissueMaterial mat;
+  mat.mode = msd::ConstantsMode::Physical;
+  mat.density = 1000;
+  mat.youngs_modulus = E;
+  mat.damping_time = 0.01;
+  mat.repulsion_factor = 0.5;
+  mat.volume_factor = 1.6;
+  msd::ModelOptions mo;
+  mo.terms = terms;
+  mo.region_materials = {mat};
+  mo.threads = threads;
+  if (platens) {
+    msd::KinematicGroup base{"base", {}, {true, true, true}}, top{"top", {}, {true, true, true}};
+    for (int i = 0; i < s.mesh.num_nodes(); ++i) {
+      if (s.mesh.nodes(2, i) < 1e-9) base.nodes.push_back(i);
+      if (s.mesh.nodes(2, i) > 0.04 - 1e-9) top.nodes.push_back(i);
+    }
+    mo.groups = {base, top};
+  }
+  return msd::build_model(s.mesh, mo);
+}
+
+void deform(const msd::Model& m, double squeeze, double jitter, msd::Points& x, msd::Points& v) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  x = m.rest_positions;
+  x.row(2) *= squeeze;
+  v.setZero(3, x.cols());
+  for (Eigen::Index i = 0; i < x.cols(); ++i)
+    for (int a = 0; a < 3; ++a) {
+      x(a, i) += jitter * u(rng);
+      v(a, i) = 0.05 * u(rng);
+    }
+}
+
+// Central differences of the internal forces along every coordinate of x (or v).
+Eigen::MatrixXd fd_jacobian(const msd::Model& m, const msd::Points& x, const msd::Points& v, bool of_velocity,
+                            double h) {
+  const Eigen::Index n = 3 * x.cols();
+  Eigen::MatrixXd J(n, n);
+  msd::Points y = of_velocity ? v : x, up, down;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const double keep = y.data()[k];
+    y.data()[k] = keep + h;
+    msd::compute_internal_forces(m, of_velocity ? x : y, of_velocity ? y : v, up);
+    y.data()[k] = keep - h;
+    msd::compute_internal_forces(m, of_velocity ? x : y, of_velocity ? y : v, down);
+    y.data()[k] = keep;
+    J.col(k) = Eigen::Map<const Eigen::VectorXd>(up.data(), n) - Eigen::Map<const Eigen::VectorXd>(down.data(), n);
+    J.col(k) /= 2 * h;
+  }
+  return J;
+}
+
+// One tet with three nodes pinned: node 3 oscillates on its three springs.
+msd::Model oscillator() {
+  msd::TissueMaterial mat;
+  mat.density = 6.0;
+  mat.k_s = 100.0;
+  msd::ModelOptions o;
+  o.terms = msd::kSprings;
+  o.region_materials = {mat};
+  o.groups = {{"base", {0, 1, 2}, {true, true, true}}};
+  return msd::build_model(testing_support::corner_tet_mesh(1.0), o);
+}
+
+double spring_energy(const msd::Model& m, const msd::State& s) {
+  return msd::conservative_energy(m, s.x) + msd::kinetic_energy(m, s.v);
+}
+
+msd::Controls at_rest(const msd::Model& m) {
+  return {std::vector<Vec3>(m.groups.size(), Vec3::Zero()), std::vector<Vec3>(m.groups.size(), Vec3::Zero())};
+}
+
+double run_oscillator(msd::Integrator integ, double dt, double t_end) {
+  const msd::Model m = oscillator();
+  msd::State s = msd::rest_state(m);
+  s.x(2, 3) += 1e-3;
+  msd::Scratch scratch;
+  const long n = std::lround(t_end / dt);
+  for (long i = 0; i < n; ++i) msd::step(m, s, at_rest(m), dt, integ, scratch);
+  return s.x(2, 3) - 1.0;
+}
+
+}  // namespace
+
+TEST(Implicit, AssembledJacobiansMatchFiniteDifferencesOfTheWholeModel) {
+  const msd::Model m = block(kAll);
+  msd::Points x, v;
+  deform(m, 0.45, 0.001, x, v);  // squeezed so repulsion and volume work hard
+  const msd::SystemLayout L = msd::make_system_layout(m);
+  Eigen::SparseMatrix<double> K = L.pattern, D = L.pattern;
+  msd::assemble_system(m, L, x, v, 0.0, 0.0, 1.0, K);
+  msd::assemble_system(m, L, x, v, 0.0, 1.0, 0.0, D);
+  const Eigen::MatrixXd Kfd = fd_jacobian(m, x, v, false, 1e-7), Dfd = fd_jacobian(m, x, v, true, 1e-6);
+  EXPECT_LT((Eigen::MatrixXd(K) - Kfd).cwiseAbs().maxCoeff(), 1e-6 * Kfd.cwiseAbs().maxCoeff());
+  EXPECT_LT((Eigen::MatrixXd(D) - Dfd).cwiseAbs().maxCoeff(), 1e-6 * Dfd.cwiseAbs().maxCoeff());
+  // And the mass: c_m M on the diagonal.
+  Eigen::SparseMatrix<double> M = L.pattern;
+  msd::assemble_system(m, L, x, v, 2.0, 0.0, 0.0, M);
+  EXPECT_DOUBLE_EQ(M.coeff(3 * 5 + 1, 3 * 5 + 1), 2.0 * m.mass[5]);
+  EXPECT_EQ(M.coeff(3 * 5 + 1, 3 * 5), 0.0);
+}
+
+TEST(Implicit, FreeVibrationLosesEnergyEveryStepAndNeverGainsIt) {
+  // Springs only, no dampers: the exact motion keeps its energy; backward Euler
+  // dissipates it (monotonically), explicit Euler gains it.
+  const msd::Model m = oscillator();
+  msd::State s = msd::rest_state(m);
+  s.x(2, 3) += 1e-2;
+  msd::Scratch scratch;
+  double e = spring_energy(m, s);
+  const double e0 = e;
+  for (int k = 0; k < 500; ++k) {
+    msd::step(m, s, at_rest(m), 2e-3, msd::Integrator::BackwardEuler, scratch);
+    const double next = spring_energy(m, s);
+    ASSERT_LE(next, e * (1 + 1e-12)) << "step " << k;
+    e = next;
+  }
+  EXPECT_LT(e, 0.9 * e0);
+  EXPECT_GT(e, 0.0);
+}
+
+TEST(Implicit, ConvergesAtFirstOrder) {
+  const double ref = run_oscillator(msd::Integrator::VelocityVerlet, 1e-5, 0.5);
+  const double e1 = std::abs(run_oscillator(msd::Integrator::BackwardEuler, 2e-3, 0.5) - ref);
+  const double e2 = std::abs(run_oscillator(msd::Integrator::BackwardEuler, 1e-3, 0.5) - ref);
+  EXPECT_NEAR(e1 / e2, 2.0, 0.4);
+}
+
+TEST(Implicit, StaysBoundedFarBeyondTheExplicitStabilityLimit) {
+  // omega about 2 pi 4.5 Hz: explicit Euler's limit is near 2 / omega = 0.07 s
+  // for symplectic Euler; at dt = 0.2 s it blows up, backward Euler decays.
+  const double amp_be = std::abs(run_oscillator(msd::Integrator::BackwardEuler, 0.2, 10.0));
+  EXPECT_LT(amp_be, 1e-3);
+  EXPECT_THROW(
+      {
+        const double a = run_oscillator(msd::Integrator::SymplecticEuler, 0.2, 10.0);
+        if (std::abs(a) > 1.0) throw msd::Error("blew up");
+      },
+      msd::Error);
+}
+
+TEST(Implicit, PrescribedNodesTakeTheirControlsAndRepeatedRunsAreBitIdenticalOnAnyThreadCount) {
+  auto run = [](int threads) {
+    const msd::Model m = block(kAll, threads, true);
+    msd::State s = msd::rest_state(m);
+    msd::Scratch scratch;
+    const double dt = 2e-3;
+    for (int k = 1; k <= 50; ++k) {
+      const double t = k * dt;
+      msd::Controls c{{Vec3::Zero(), Vec3(0, 0, -0.1 * t)}, {Vec3::Zero(), Vec3(0, 0, -0.1)}};
+      msd::step(m, s, c, dt, msd::Integrator::BackwardEuler, scratch);
+      for (int node : m.groups[1].nodes) {
+        EXPECT_EQ(s.x(2, node), m.rest_positions(2, node) - 0.1 * t);
+        EXPECT_EQ(s.v(2, node), -0.1);
+      }
+    }
+    EXPECT_GT(scratch.newton_iterations, 0);
+    return s.x;
+  };
+  const msd::Points one = run(1), again = run(1), two = run(2);
+  EXPECT_EQ((one - again).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((one - two).cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(Implicit, ExtremeCompressionWithTheFullModelEndsFiniteAndUninverted) {
+  // The top platen pushed down to 10 % of the height (strain -0.9) in 0.1 s,
+  // at 5 ms steps: repulsion and volume on.
+  const msd::Model m = block(kAll, 1, true);
+  msd::State s = msd::rest_state(m);
+  msd::Scratch scratch;
+  const double dt = 5e-3, speed = 0.9 * 0.04 / 0.1;
+  for (int k = 1; k <= 20; ++k) {
+    const double t = k * dt;
+    msd::Controls c{{Vec3::Zero(), Vec3(0, 0, -speed * t)}, {Vec3::Zero(), Vec3(0, 0, -speed)}};
+    msd::step(m, s, c, dt, msd::Integrator::BackwardEuler, scratch);
+  }
+  for (int k = 0; k < 40; ++k) {  // hold
+    msd::Controls c{{Vec3::Zero(), Vec3(0, 0, -0.036)}, {Vec3::Zero(), Vec3::Zero()}};
+    msd::step(m, s, c, dt, msd::Integrator::BackwardEuler, scratch);
+  }
+  ASSERT_TRUE(s.x.allFinite());
+  for (const msd::Element& el : m.elements) {
+    const auto& n = el.nodes;
+    EXPECT_GT(msd::tet_signed_volume(s.x.col(n[0]), s.x.col(n[1]), s.x.col(n[2]), s.x.col(n[3])), 0.0);
+  }
+}
+
+TEST(Implicit, ANewtonSolveThatDoesNotConvergeSaysWhenWhereAndTheResidual) {
+  msd::Model m = block(kAll, 1, true, 3.0e5);
+  m.newton.max_iterations = 1;
+  m.newton.max_step_cuts = 2;
+  m.newton.tolerance = 1e-14;
+  msd::State s = msd::rest_state(m);
+  msd::Scratch scratch;
+  msd::Controls c{{Vec3::Zero(), Vec3(0, 0, -0.02)}, {Vec3::Zero(), Vec3(0, 0, -2.0)}};
+  try {
+    msd::step(m, s, c, 1e-2, msd::Integrator::BackwardEuler, scratch);
+    FAIL() << "expected a SimulationFailure";
+  } catch (const msd::SimulationFailure& f) {
+    const std::string what = f.what();
+    EXPECT_NE(what.find("did not converge after 1 iterations with the step cut 2 times to 0.0025 s"),
+              std::string::npos) << what;
+    EXPECT_NE(what.find("residual"), std::string::npos) << what;
+    EXPECT_NE(what.find("N, tolerance"), std::string::npos) << what;
+    // The end of the quarter step that failed: one of 2.5, 5, 7.5, 10 ms.
+    EXPECT_NEAR(std::remainder(f.time, 2.5e-3), 0.0, 1e-15);
+    EXPECT_GT(f.time, 0.0);
+    EXPECT_LE(f.time, 1e-2 + 1e-15);
+    EXPECT_EQ(f.step, 1);
+    EXPECT_GE(f.node, 0);
+  }
+}
+
+TEST(Implicit, BadNewtonOptionsAreRefusedByName) {
+  msd::ModelOptions o;
+  msd::TissueMaterial mat;
+  mat.density = 1000;
+  mat.k_s = 1;
+  o.region_materials = {mat};
+  o.newton.tolerance = 0.0;
+  EXPECT_THROW(
+      {
+        try {
+          msd::build_model(testing_support::corner_tet_mesh(0.1), o);
+        } catch (const msd::Error& e) {
+          EXPECT_NE(std::string(e.what()).find("newton tolerance"), std::string::npos);
+          throw;
+        }
+      },
+      msd::Error);
+  o.newton.tolerance = 1e-8;
+  o.newton.max_iterations = 0;
+  EXPECT_THROW(msd::build_model(testing_support::corner_tet_mesh(0.1), o), msd::Error);
+  EXPECT_THROW(msd::parse_integrator("backward-euler"), msd::Error);
+  EXPECT_EQ(msd::parse_integrator("backward_euler"), msd::Integrator::BackwardEuler);
+}
