@@ -114,7 +114,8 @@ MaterialSpec parse_material(const Fields& given) {
 MsdSpec parse_msd(const Fields& f) {
   f.only({"constants", "k_s", "k_d", "k_r", "k_v", "stiffness_scale", "repulsion_factor",
           "volume_factor", "damping_time", "repulsion_floor", "mass_lumping", "terms", "nonlinear_threshold",
-          "integrator", "dt", "calibration", "rtol", "atol", "threads", "forces"});
+          "integrator", "dt", "calibration", "rtol", "atol", "threads", "forces", "newton_tolerance",
+          "newton_max_iterations", "newton_max_step_cuts"});
   MsdSpec m;
   m.constants = choice(f, "msd.constants");
   const bool raw = m.constants == "raw";
@@ -165,6 +166,14 @@ MsdSpec parse_msd(const Fields& f) {
     for (const char* k : {"rtol", "atol"})
       if (f.has(k)) throw msd::Error(f.where(k) + "only meaningful with 'integrator: cvode'");
     m.dt = number(f, "msd.dt");
+  }
+  if (m.integrator == "backward_euler") {
+    m.newton_tolerance = number(f, "msd.newton_tolerance");
+    m.newton_max_iterations = static_cast<int>(integer(f, "msd.newton_max_iterations"));
+    m.newton_max_step_cuts = static_cast<int>(integer(f, "msd.newton_max_step_cuts"));
+  } else {
+    for (const char* k : {"newton_tolerance", "newton_max_iterations", "newton_max_step_cuts"})
+      if (f.has(k)) throw msd::Error(f.where(k) + "only meaningful with 'integrator: backward_euler'");
   }
   return m;
 }

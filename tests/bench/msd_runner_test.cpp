@@ -101,3 +101,33 @@ output: {interval: 0.05}
     EXPECT_NE(std::string(e.what()).find("cannot integrate contact"), std::string::npos) << e.what();
   }
 }
+
+TEST(MsdRunner, BackwardEulerCompletesAtAStepWhereSymplecticEulerBlowsUp) {
+  // dt = 1e-2 s: the step BlowUpLeavesAFailedFileWithTheRowsSoFar fails with.
+  testing_support::TempDir dir("runner");
+  std::string text = kSpec;
+  text.replace(text.find("dt: 1.0e-4"), 10, "dt: 1.0e-2, integrator: backward_euler");
+  const bench::RunSummary s = bench::run_msd(bench::parse_spec(text, "small.yaml"), dir.file("be.h5"));
+  ASSERT_TRUE(s.complete) << s.failure;
+  const bench::Results r = bench::read_results(dir.file("be.h5"));
+  EXPECT_EQ(r.meta.at("integrator"), "backward_euler");
+  EXPECT_DOUBLE_EQ(r.timing.at("steps"), 40);
+  EXPECT_GE(r.timing.at("newton_iterations"), 40);  // at least one per step under load
+  EXPECT_EQ(r.series.at("inverted_elements").back(), 0.0);
+  EXPECT_GT(r.series.at("nominal_stress").back(), 0.0);  // stretched at the end
+}
+
+TEST(MsdRunner, NewtonSettingsBelongToBackwardEulerOnly) {
+  std::string text = kSpec;
+  text.replace(text.find("dt: 1.0e-4"), 10, "dt: 1.0e-4, newton_tolerance: 1.0e-6");
+  try {
+    bench::parse_spec(text, "small.yaml");
+    FAIL() << "expected a refusal";
+  } catch (const msd::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("newton_tolerance"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("only meaningful with 'integrator: backward_euler'"), std::string::npos);
+  }
+  text = kSpec;
+  text.replace(text.find("dt: 1.0e-4"), 10, "dt: 1.0e-4, integrator: backward_euler, newton_max_iterations: 0");
+  EXPECT_THROW(bench::parse_spec(text, "small.yaml"), msd::Error);
+}

@@ -78,6 +78,7 @@ struct RunSummary {
   /// Named key results for the summary table (e.g. "f1_Hz", "tip_mm").
   std::vector<std::pair<std::string, double>> highlights;
   long steps = 0;
+  long newton_iterations = 0, step_cuts = 0;  ///< backward Euler only
   double wall_seconds = 0.0;
   double simulated_seconds = 0.0;
   double min_strain = 0.0, max_strain = 0.0;

@@ -61,13 +61,17 @@ struct MsdSpec {
   std::string mass_lumping = "per_tet";   ///< per_tet | equal
   std::vector<std::string> terms{"springs", "dampers", "repulsion", "volume"};
   double nonlinear_threshold = 0.0;       ///< 0 = off
-  /// explicit_euler | symplectic_euler | velocity_verlet | cvode (SUNDIALS BDF,
-  /// adaptive; the time-exact reference of the time-error study)
+  /// explicit_euler | symplectic_euler | velocity_verlet | backward_euler
+  /// (implicit) | cvode (SUNDIALS BDF, adaptive; the time-exact reference of
+  /// the time-error study)
   std::string integrator = "symplectic_euler";
   int threads = 1;                        ///< force-evaluation threads (results identical for every count)
   std::string forces = "engine";          ///< engine or reference (the per-tet loop)
   double dt = 0.0;                        ///< s; fixed-step integrators
   double rtol = 1e-8, atol = 1e-10;       ///< cvode: relative, absolute on positions (m)
+  /// backward_euler: Newton's relative tolerance, iterations, step halvings (msd::NewtonOptions)
+  double newton_tolerance = 1e-8;
+  int newton_max_iterations = 20, newton_max_step_cuts = 6;
 };
 
 /// Settings of the finite-element reference solver.

@@ -124,6 +124,8 @@ RunStats run_experiment(const Model& model, State state, double end_time, double
     if (k == total_steps) break;
     step(model, state, hooks.controls((k + 1) * opt.dt), opt.dt, opt.integrator, scratch);
     ++stats.steps;
+    stats.newton_iterations = scratch.newton_iterations;
+    stats.step_cuts = scratch.step_cuts;
   }
   stats.simulated_seconds = state.t;
   return stats;

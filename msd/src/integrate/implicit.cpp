@@ -336,6 +336,7 @@ void step_backward_euler(const Model& model, State& state, const Controls& contr
   scratch.last_step_cuts = 0;
   advance(model, state, controls, state.t + dt, dt, 0, w, scratch);
   scratch.newton_iterations += scratch.last_newton_iterations;
+  scratch.step_cuts += scratch.last_step_cuts;
 }
 
 }  // namespace msd

@@ -67,6 +67,8 @@ struct TimeSteppingOptions {
 struct RunStats {
   long steps = 0;
   double simulated_seconds = 0.0;
+  long newton_iterations = 0;  ///< backward Euler: Newton iterations over the run
+  long step_cuts = 0;          ///< backward Euler: steps halved because Newton failed
 };
 
 struct ExperimentHooks {

@@ -173,6 +173,7 @@ struct Scratch {
   long newton_iterations = 0;      ///< Newton iterations of the implicit steps so far
   int last_newton_iterations = 0;  ///< of the last implicit step
   int last_step_cuts = 0;          ///< times the last implicit step was halved
+  long step_cuts = 0;              ///< halvings of the implicit steps so far
 };
 
 }  // namespace msd
