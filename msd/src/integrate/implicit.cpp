@@ -133,6 +133,7 @@ void assemble_system(const Model& model, const SystemLayout& L, const Points& x,
 
 // The workspace of the implicit steps: layout, matrix, factorisation, vectors.
 struct ImplicitWorkspace {
+  const Model* model = nullptr;  // the model the layout was made for
   int nodes = -1, edges = -1;
   SystemLayout layout;
   Eigen::SparseMatrix<double> A;
@@ -146,12 +147,13 @@ namespace {
 ImplicitWorkspace& workspace(const Model& model, Scratch& scratch) {
   if (!scratch.implicit) scratch.implicit = std::make_shared<ImplicitWorkspace>();
   ImplicitWorkspace& w = *scratch.implicit;
-  if (w.nodes != model.num_nodes() || w.edges != model.plan.num_edges()) {
+  if (w.model != &model || w.nodes != model.num_nodes() || w.edges != model.plan.num_edges()) {
     w.layout = make_system_layout(model);
     w.A = w.layout.pattern;
     w.lu.analyzePattern(w.A);
     w.nodes = model.num_nodes();
     w.edges = model.plan.num_edges();
+    w.model = &model;
   }
   return w;
 }
