@@ -162,15 +162,7 @@ ImplicitWorkspace& workspace(const Model& model, Scratch& scratch) {
 void positions_from_velocities(const Model& model, const State& s, const Controls& c, double dt,
                                ImplicitWorkspace& w) {
   w.x1 = s.x + dt * w.v1;
-  for (size_t g = 0; g < model.groups.size(); ++g) {
-    const KinematicGroup& grp = model.groups[g];
-    for (int node : grp.nodes)
-      for (int a = 0; a < 3; ++a)
-        if (grp.axes[a]) {
-          w.x1(a, node) = model.rest_positions(a, node) + c.group_offset.at(g)[a];
-          w.v1(a, node) = c.group_velocity.at(g)[a];
-        }
-  }
+  apply_group_constraints(model, c, w.x1, w.v1);
 }
 
 // G at (x1, v1) into w.r (prescribed components zero); returns max |G_i|,

@@ -66,7 +66,7 @@ void check_state(const Model& model, const State& state) {
 SimulationFailure::SimulationFailure(const std::string& why, double t, long s, int e, int n)
     : Error(describe(why, t, s, e, n)), time(t), step(s), element(e), node(n), reason(why) {}
 
-void apply_constraints(const Model& model, const Controls& controls, State& state) {
+void apply_group_constraints(const Model& model, const Controls& controls, Points& x, Points& v) {
   for (size_t g = 0; g < model.groups.size(); ++g) {
     const KinematicGroup& grp = model.groups[g];
     const Vec3& off = controls.group_offset.at(g);
@@ -74,10 +74,14 @@ void apply_constraints(const Model& model, const Controls& controls, State& stat
     for (int n : grp.nodes)
       for (int a = 0; a < 3; ++a)
         if (grp.axes[a]) {
-          state.x(a, n) = model.rest_positions(a, n) + off[a];
-          state.v(a, n) = vel[a];
+          x(a, n) = model.rest_positions(a, n) + off[a];
+          v(a, n) = vel[a];
         }
   }
+}
+
+void apply_constraints(const Model& model, const Controls& controls, State& state) {
+  apply_group_constraints(model, controls, state.x, state.v);
   for (size_t k = 0; k < model.obstacles.size(); ++k) {
     const RigidObstacle& ob = model.obstacles[k];
     const Vec3 off = k < controls.obstacle_offset.size() ? controls.obstacle_offset[k] : Vec3::Zero();

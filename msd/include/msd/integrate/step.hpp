@@ -40,6 +40,10 @@ class SimulationFailure : public Error {
   std::string reason;
 };
 
+/// Sets the constrained components of group nodes in x and v from `controls`
+/// (position = rest + offset, velocity = the group's).
+void apply_group_constraints(const Model& model, const Controls& controls, Points& x, Points& v);
+
 /// Sets the constrained components of group nodes from `controls`, then
 /// resolves the contacts with the model's rigid obstacles at their placement
 /// in `controls`.
