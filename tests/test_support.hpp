@@ -73,6 +73,23 @@ inline msd::Model corner_tet_model(msd::ModelOptions opt = {}) {
   return msd::build_model(corner_tet_mesh(0.1), opt);
 }
 
+/// A squeezed, jittered state of a model: positions = rest with z scaled by
+/// `squeeze` plus uniform noise of `jitter` m, velocities uniform in
+/// +-0.05 m/s (seeded, reproducible).
+inline void deform(const msd::Model& m, double squeeze, double jitter, msd::Points& x, msd::Points& v,
+                   unsigned seed = 3) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  x = m.rest_positions;
+  x.row(2) *= squeeze;
+  v.setZero(3, x.cols());
+  for (Eigen::Index i = 0; i < x.cols(); ++i)
+    for (int a = 0; a < 3; ++a) {
+      x(a, i) += jitter * u(rng);
+      v(a, i) = 0.05 * u(rng);
+    }
+}
+
 /// A small uni-axial spec (a 2 x 2 x 4 cm box at h = 1 cm, 80 tets, physical
 /// constants, compression to -0.1 then extension to +0.1 in 0.4 s) shared by
 /// the benchmark-layer suites.

@@ -62,19 +62,7 @@ msd::Model block(unsigned terms, double threshold, int threads) {
   return msd::build_model(s.mesh, mo);
 }
 
-// Positions squeezed along z by `squeeze` and jittered by `jitter` m, random velocities.
-void deform(const msd::Model& m, double squeeze, double jitter, msd::Points& x, msd::Points& v, unsigned seed = 3) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1, 1);
-  x = m.rest_positions;
-  x.row(2) *= squeeze;
-  v.setZero(3, x.cols());
-  for (Eigen::Index i = 0; i < x.cols(); ++i)
-    for (int a = 0; a < 3; ++a) {
-      x(a, i) += jitter * u(rng);
-      v(a, i) = 0.05 * u(rng);
-    }
-}
+using testing_support::deform;
 
 double max_abs(const msd::Points& f) { return f.cwiseAbs().maxCoeff(); }
 

@@ -46,18 +46,7 @@ msd::Model block(unsigned terms, int threads = 1, bool platens = false, double E
   return msd::build_model(s.mesh, mo);
 }
 
-void deform(const msd::Model& m, double squeeze, double jitter, msd::Points& x, msd::Points& v) {
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> u(-1, 1);
-  x = m.rest_positions;
-  x.row(2) *= squeeze;
-  v.setZero(3, x.cols());
-  for (Eigen::Index i = 0; i < x.cols(); ++i)
-    for (int a = 0; a < 3; ++a) {
-      x(a, i) += jitter * u(rng);
-      v(a, i) = 0.05 * u(rng);
-    }
-}
+using testing_support::deform;
 
 // Central differences of the internal forces along every coordinate of x (or v).
 Eigen::MatrixXd fd_jacobian(const msd::Model& m, const msd::Points& x, const msd::Points& v, bool of_velocity,
