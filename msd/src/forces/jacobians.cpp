@@ -116,4 +116,43 @@ bool nonlinear_element_jacobian(const Model& model, const Element& el, const Vec
   return true;
 }
 
+Mat3 muscle_unit_jacobian(const Vec3& l, double rest_length, double force, const ForceLength& fl) {
+  const double len = l.norm();
+  if (!(len > 0.0) || force == 0.0) return Mat3::Zero();
+  const Vec3 u = l / len;
+  const double lambda = len / rest_length;
+  const double fL = fl.enabled ? force_length_factor(lambda, fl.zero_at) : 1.0;
+  double slope = 0.0;  // d f_L / d lambda
+  if (fl.enabled && lambda > fl.zero_at && lambda < 1.0) slope = 2.0 * (1.0 - lambda) / ((1.0 - fl.zero_at) * (1.0 - fl.zero_at));
+  const Mat3 uu = u * u.transpose();
+  return (force * fL / len) * (Mat3::Identity() - uu) + (force * slope / rest_length) * uu;
+}
+
+bool strand_jacobian(const Points& p, double natural_length, double k_t, Eigen::MatrixXd& K) {
+  const Eigen::Index m = p.cols();
+  if (K.rows() != 3 * m || K.cols() != 3 * m) K.resize(3 * m, 3 * m);
+  K.setZero();
+  double length = 0.0;
+  for (Eigen::Index s = 0; s + 1 < m; ++s) length += (p.col(s + 1) - p.col(s)).norm();
+  const double tension = k_t * (length - natural_length);
+  if (!(tension > 0.0)) return false;
+  // g_i = u_{i-1} - u_i; the curvature blocks of sum |d_s|.
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(3 * m);
+  for (Eigen::Index s = 0; s + 1 < m; ++s) {
+    const Vec3 d = p.col(s + 1) - p.col(s);
+    const double len = d.norm();
+    if (!(len > 0.0)) continue;  // coincident points: no direction, no force (add_tendon_forces)
+    const Vec3 u = d / len;
+    g.segment<3>(3 * s) -= u;
+    g.segment<3>(3 * (s + 1)) += u;
+    const Mat3 c = (tension / len) * (Mat3::Identity() - u * u.transpose());
+    K.block<3, 3>(3 * s, 3 * s) -= c;
+    K.block<3, 3>(3 * (s + 1), 3 * (s + 1)) -= c;
+    K.block<3, 3>(3 * s, 3 * (s + 1)) += c;
+    K.block<3, 3>(3 * (s + 1), 3 * s) += c;
+  }
+  K.noalias() -= k_t * g * g.transpose();
+  return true;
+}
+
 }  // namespace msd

@@ -1,28 +1,66 @@
 #include "msd/integrate/implicit.hpp"
 
 #include "msd/forces/jacobians.hpp"
+#include "msd/forces/parts.hpp"
 #include "msd/integrate/step.hpp"
 #include "msd/mesh/tet_mesh.hpp"
 
 #include <Eigen/SparseLU>
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <sstream>
 #include <limits>
 
 namespace msd {
 
+namespace {
+
+// The block of node pair (a, b): a's diagonal, the edge joining them, or one
+// of the extra pairs (-1: none).
+int find_block(const Model& model, const std::map<std::pair<int, int>, int>& extra, int a, int b) {
+  if (a == b) return a;
+  const ForcePlan& p = model.plan;
+  for (int k = p.node_edge_offset[static_cast<size_t>(a)]; k < p.node_edge_offset[static_cast<size_t>(a) + 1]; ++k) {
+    const int r = p.node_edge[static_cast<size_t>(k)];
+    const int e = r / 2;
+    const bool a_is_b_end = r & 1;
+    const int other = a_is_b_end ? p.edge_a[static_cast<size_t>(e)] : p.edge_b[static_cast<size_t>(e)];
+    if (other == b) return model.num_nodes() + 2 * e + (a_is_b_end ? 1 : 0);
+  }
+  const auto it = extra.find({a, b});
+  return it == extra.end() ? -1 : it->second;
+}
+
+}  // namespace
+
 SystemLayout make_system_layout(const Model& model) {
   const int n = model.num_nodes();
   const ForcePlan& p = model.plan;
-  const int blocks = n + 2 * p.num_edges();
-  std::vector<std::pair<int, int>> block_nodes(static_cast<size_t>(blocks));
+  std::vector<std::pair<int, int>> block_nodes(static_cast<size_t>(n + 2 * p.num_edges()));
   for (int i = 0; i < n; ++i) block_nodes[static_cast<size_t>(i)] = {i, i};
   for (int e = 0; e < p.num_edges(); ++e) {
     block_nodes[static_cast<size_t>(n + 2 * e)] = {p.edge_a[static_cast<size_t>(e)], p.edge_b[static_cast<size_t>(e)]};
     block_nodes[static_cast<size_t>(n + 2 * e + 1)] = {p.edge_b[static_cast<size_t>(e)], p.edge_a[static_cast<size_t>(e)]};
   }
+  // Pairs the moving parts couple that no edge joins: every pair of a
+  // strand's nodes (its Jacobian is dense), each muscle unit's ends.
+  std::map<std::pair<int, int>, int> extra;
+  const auto need = [&](int a, int b) {
+    if (find_block(model, extra, a, b) >= 0) return;
+    extra[{a, b}] = static_cast<int>(block_nodes.size());
+    block_nodes.emplace_back(a, b);
+  };
+  for (const Strand& st : model.strands)
+    for (int a : st.nodes)
+      for (int b : st.nodes) need(a, b);
+  for (const Muscle& mu : model.muscles)
+    for (const ContractileUnit& u : mu.units) {
+      need(u.a, u.b);
+      need(u.b, u.a);
+    }
+  const int blocks = static_cast<int>(block_nodes.size());
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(9 * static_cast<size_t>(blocks));
   for (const auto& [r, c] : block_nodes)
@@ -49,22 +87,22 @@ SystemLayout make_system_layout(const Model& model) {
     const Tet& nodes = model.elements[t].nodes;
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < 4; ++j) {
-        const int a = nodes[static_cast<size_t>(i)], b = nodes[static_cast<size_t>(j)];
-        int id = a;
-        if (a != b) {
-          id = -1;
-          for (int k = p.node_edge_offset[static_cast<size_t>(a)]; k < p.node_edge_offset[static_cast<size_t>(a) + 1]; ++k) {
-            const int r = p.node_edge[static_cast<size_t>(k)];
-            const int e = r / 2;
-            const bool a_is_b_end = r & 1;
-            const int other = a_is_b_end ? p.edge_a[static_cast<size_t>(e)] : p.edge_b[static_cast<size_t>(e)];
-            if (other == b) id = n + 2 * e + (a_is_b_end ? 1 : 0);
-          }
-          if (id < 0) throw Error("system layout: tet " + std::to_string(t) + " has a vertex pair without an edge");
-        }
+        const int id = find_block(model, extra, nodes[static_cast<size_t>(i)], nodes[static_cast<size_t>(j)]);
+        if (id < 0) throw Error("system layout: tet " + std::to_string(t) + " has a vertex pair without an edge");
         L.tet_block[16 * t + 4 * static_cast<size_t>(i) + static_cast<size_t>(j)] = id;
       }
   }
+  L.strand_block_offset.assign(1, 0);
+  for (const Strand& st : model.strands) {
+    for (int a : st.nodes)
+      for (int b : st.nodes) L.strand_block.push_back(find_block(model, extra, a, b));
+    L.strand_block_offset.push_back(static_cast<int>(L.strand_block.size()));
+  }
+  for (const Muscle& mu : model.muscles)
+    for (const ContractileUnit& u : mu.units) {
+      L.unit_block.push_back(find_block(model, extra, u.a, u.b));
+      L.unit_block.push_back(find_block(model, extra, u.b, u.a));
+    }
   L.fixed.assign(3 * static_cast<size_t>(n), 0);
   for (const KinematicGroup& g : model.groups)
     for (int node : g.nodes)
@@ -92,10 +130,58 @@ inline void add_edge_blocks(double* values, const SystemLayout& L, int n, int e,
   add_block(values, L, n + 2 * e + 1, B, c);
 }
 
+// The strands' and muscles' stiffness (jacobians.hpp), times c_k. An
+// anchored strand's anchor is not a degree of freedom: its rows and columns
+// are dropped.
+void assemble_parts(const Model& model, const SystemLayout& L, const Points& x, const std::vector<HingeState>& joints,
+                    const Controls& controls, double c_k, double* values) {
+  thread_local Points p;
+  thread_local Eigen::MatrixXd K;
+  for (size_t si = 0; si < model.strands.size(); ++si) {
+    const Strand& s = model.strands[si];
+    const Eigen::Index m = static_cast<Eigen::Index>(s.nodes.size());
+    const Eigen::Index points = m + (s.anchor_group >= 0 ? 1 : 0);
+    if (p.cols() != points) p.resize(3, points);
+    for (Eigen::Index k = 0; k < m; ++k) p.col(k) = x.col(s.nodes[static_cast<size_t>(k)]);
+    if (s.anchor_group >= 0) p.col(m) = group_point(model, s.anchor_group, s.anchor_rest, x, joints);
+    if (!strand_jacobian(p, strand_natural_length(model, si, controls), s.k_t, K)) continue;
+    const int* ids = L.strand_block.data() + L.strand_block_offset[si];
+    for (Eigen::Index i = 0; i < m; ++i)
+      for (Eigen::Index j = 0; j < m; ++j)
+        add_block(values, L, ids[i * m + j], K.block<3, 3>(3 * i, 3 * j), c_k);
+  }
+  size_t unit = 0;
+  for (size_t mi = 0; mi < model.muscles.size(); ++mi) {
+    const Muscle& mu = model.muscles[mi];
+    const double a = mi < controls.activation.size() ? controls.activation[mi] : 0.0;
+    if (!(a > 0.0)) {
+      unit += mu.units.size();
+      continue;
+    }
+    for (const ContractileUnit& u : mu.units) {
+      const Mat3 B = muscle_unit_jacobian(Vec3(x.col(u.b) - x.col(u.a)), u.rest_length, a * mu.unit_force, mu.force_length);
+      add_block(values, L, u.a, B, -c_k);
+      add_block(values, L, u.b, B, -c_k);
+      add_block(values, L, L.unit_block[2 * unit], B, c_k);
+      add_block(values, L, L.unit_block[2 * unit + 1], B, c_k);
+      ++unit;
+    }
+  }
+}
+
 }  // namespace
 
 void assemble_system(const Model& model, const SystemLayout& L, const Points& x, const Points& v, double c_m,
                      double c_d, double c_k, Eigen::SparseMatrix<double>& A) {
+  static const Controls none;
+  static const std::vector<HingeState> rest_joints;
+  assemble_system(model, L, x, v, model.joints.empty() ? rest_joints : std::vector<HingeState>(model.joints.size()),
+                  none, c_m, c_d, c_k, A);
+}
+
+void assemble_system(const Model& model, const SystemLayout& L, const Points& x, const Points& v,
+                     const std::vector<HingeState>& joints, const Controls& controls, double c_m, double c_d,
+                     double c_k, Eigen::SparseMatrix<double>& A) {
   double* values = A.valuePtr();
   std::fill(values, values + A.nonZeros(), 0.0);
   const int n = model.num_nodes();
@@ -129,6 +215,7 @@ void assemble_system(const Model& model, const SystemLayout& L, const Points& x,
                     K.block<3, 3>(3 * i, 3 * j), c_k);
     }
   }
+  if (c_k != 0.0) assemble_parts(model, L, x, joints, controls, c_k, values);
 }
 
 // The workspace of the implicit steps: layout, matrix, factorisation, vectors.
@@ -140,6 +227,8 @@ struct ImplicitWorkspace {
   Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
   Points x1, v1, v_trial, r, load;
   Eigen::VectorXd rhs, delta;
+  State at;  // the iterate handed to evaluate_forces
+  std::vector<HingeState> joints_end;  // the joints at the step's end
 };
 
 namespace {
@@ -158,25 +247,27 @@ ImplicitWorkspace& workspace(const Model& model, Scratch& scratch) {
   return w;
 }
 
-// x1 = x + dt v1 on free components; prescribed ones at their values at t + dt.
-void positions_from_velocities(const Model& model, const State& s, const Controls& c, double dt,
-                               ImplicitWorkspace& w) {
+// x1 = x + dt v1 on free components; prescribed ones at their values at t + dt
+// (groups a joint drives at the joints' states `joints`).
+void positions_from_velocities(const Model& model, const State& s, const Controls& c,
+                               const std::vector<HingeState>& joints, double dt, ImplicitWorkspace& w) {
   w.x1 = s.x + dt * w.v1;
-  apply_group_constraints(model, c, w.x1, w.v1);
+  apply_group_constraints(model, c, joints, w.x1, w.v1);
 }
 
 // G at (x1, v1) into w.r (prescribed components zero); returns max |G_i|,
 // sets `l2` to |G| and `scale` to the largest term in the balance.
-double residual(const Model& model, const State& s, double time, double dt, ImplicitWorkspace& w, Scratch& scratch,
-                double& scale, double& l2) {
-  State at;  // evaluate_forces reads x and v only
+double residual(const Model& model, const State& s, const Controls& c, const std::vector<HingeState>& joints,
+                double time, double dt, ImplicitWorkspace& w, Scratch& scratch, double& scale, double& l2) {
+  State& at = w.at;  // evaluate_forces reads x, v and the joints
   at.x.swap(w.x1);
   at.v.swap(w.v1);
+  at.joints = joints;
   at.t = time;
   at.step = s.step + 1;
   bool finite = true;
   try {
-    evaluate_forces(model, at, scratch);
+    evaluate_forces(model, at, c, scratch);
   } catch (const SimulationFailure&) {
     finite = false;  // an iterate that degenerates an element: no residual
   }
@@ -227,14 +318,14 @@ struct NewtonResult {
 
 // Newton's method on G(v+) = 0 for one step of dt from `s` to time `time`;
 // leaves the iterate in w.x1, w.v1.
-NewtonResult newton(const Model& model, const State& s, const Controls& c, double time, double dt,
-                    ImplicitWorkspace& w, Scratch& scratch) {
+NewtonResult newton(const Model& model, const State& s, const Controls& c, const std::vector<HingeState>& joints,
+                    double time, double dt, ImplicitWorkspace& w, Scratch& scratch) {
   const double tol = model.newton.tolerance;
   NewtonResult out;
   w.v1 = s.v;
-  positions_from_velocities(model, s, c, dt, w);
+  positions_from_velocities(model, s, c, joints, dt, w);
   double l2 = 0.0;
-  out.residual = residual(model, s, time, dt, w, scratch, out.scale, l2);
+  out.residual = residual(model, s, c, joints, time, dt, w, scratch, out.scale, l2);
   while (!(out.residual <= tol * out.scale)) {
     if (!std::isfinite(out.residual)) {
       out.why = "met non-finite forces";
@@ -245,7 +336,7 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, doubl
       return out;
     }
     ++out.iterations;
-    assemble_system(model, w.layout, w.x1, w.v1, 1.0, -dt, -dt * dt, w.A);
+    assemble_system(model, w.layout, w.x1, w.v1, joints, c, 1.0, -dt, -dt * dt, w.A);
     fix_prescribed(w.layout, w.A);
     w.lu.factorize(w.A);
     if (w.lu.info() != Eigen::Success) {
@@ -260,9 +351,9 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, doubl
     double alpha = 1.0;
     for (int ls = 0;; ++ls) {
       w.v1 = w.v_trial + alpha * Eigen::Map<const Points>(w.delta.data(), 3, model.num_nodes());
-      positions_from_velocities(model, s, c, dt, w);
+      positions_from_velocities(model, s, c, joints, dt, w);
       double scale = 0.0, trial_l2 = 0.0;
-      const double trial = residual(model, s, time, dt, w, scratch, scale, trial_l2);
+      const double trial = residual(model, s, c, joints, time, dt, w, scratch, scale, trial_l2);
       if (trial_l2 < l2 || ls == 10) {
         out.residual = trial;
         out.scale = scale;
@@ -288,10 +379,12 @@ Vec3 group_offset_now(const Model& model, const State& s, size_t g, const Vec3& 
 }
 
 // Advances s by dt to `time`: one Newton solve, or - when it fails - two
-// half steps (prescribed offsets halfway), up to max_step_cuts times.
-void advance(const Model& model, State& s, const Controls& c, double time, double dt, int cuts, ImplicitWorkspace& w,
+// half steps (prescribed offsets and joint states halfway), up to
+// max_step_cuts times. The joints go from `from` to `to` over the step.
+void advance(const Model& model, State& s, const Controls& c, const std::vector<HingeState>& from,
+             const std::vector<HingeState>& to, double time, double dt, int cuts, ImplicitWorkspace& w,
              Scratch& scratch) {
-  const NewtonResult r = newton(model, s, c, time, dt, w, scratch);
+  const NewtonResult r = newton(model, s, c, to, time, dt, w, scratch);
   scratch.last_newton_iterations += r.iterations;
   if (r.converged) {
     s.x = w.x1;
@@ -310,9 +403,12 @@ void advance(const Model& model, State& s, const Controls& c, double time, doubl
   Controls mid = c;
   for (size_t g = 0; g < model.groups.size(); ++g)
     mid.group_offset[g] = 0.5 * (group_offset_now(model, s, g, c.group_offset[g]) + c.group_offset[g]);
+  std::vector<HingeState> half(to.size());
+  for (size_t j = 0; j < to.size(); ++j)
+    half[j] = {0.5 * (from[j].angle + to[j].angle), 0.5 * (from[j].velocity + to[j].velocity)};
   ++scratch.last_step_cuts;
-  advance(model, s, mid, time - 0.5 * dt, 0.5 * dt, cuts + 1, w, scratch);
-  advance(model, s, c, time, 0.5 * dt, cuts + 1, w, scratch);
+  advance(model, s, mid, from, half, time - 0.5 * dt, 0.5 * dt, cuts + 1, w, scratch);
+  advance(model, s, c, half, to, time, 0.5 * dt, cuts + 1, w, scratch);
 }
 
 }  // namespace
@@ -328,7 +424,11 @@ void step_backward_euler(const Model& model, State& state, const Controls& contr
   if (model.terms & kGravity) w.load += (s * model.gravity) * model.mass.transpose();
   scratch.last_newton_iterations = 0;
   scratch.last_step_cuts = 0;
-  advance(model, state, controls, state.t + dt, dt, 0, w, scratch);
+  // The joints were stepped already (step_joints): the solve holds their
+  // groups at the new states, halfway ones when the step is cut.
+  w.joints_end = state.joints;
+  const std::vector<HingeState>& from = model.joints.empty() ? w.joints_end : scratch.joints_before;
+  advance(model, state, controls, from, w.joints_end, state.t + dt, dt, 0, w, scratch);
   scratch.newton_iterations += scratch.last_newton_iterations;
   scratch.step_cuts += scratch.last_step_cuts;
 }

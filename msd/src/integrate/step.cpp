@@ -2,6 +2,7 @@
 
 #include "msd/forces/element_forces.hpp"
 #include "msd/forces/force_engine.hpp"
+#include "msd/forces/parts.hpp"
 #include "msd/integrate/implicit.hpp"
 
 #include <cmath>
@@ -50,6 +51,9 @@ std::string describe(const std::string& reason, double time, long step, int elem
 }
 
 void check_state(const Model& model, const State& state) {
+  for (size_t j = 0; j < state.joints.size(); ++j)
+    if (!std::isfinite(state.joints[j].angle) || !std::isfinite(state.joints[j].velocity))
+      throw SimulationFailure("non-finite angle of joint '" + model.joints[j].name + "'", state.t, state.step, -1, -1);
   if (state.x.allFinite() && state.v.allFinite()) return;
   for (int n = 0; n < state.x.cols(); ++n)
     if (!state.x.col(n).allFinite() || !state.v.col(n).allFinite()) {
@@ -66,9 +70,15 @@ void check_state(const Model& model, const State& state) {
 SimulationFailure::SimulationFailure(const std::string& why, double t, long s, int e, int n)
     : Error(describe(why, t, s, e, n)), time(t), step(s), element(e), node(n), reason(why) {}
 
-void apply_group_constraints(const Model& model, const Controls& controls, Points& x, Points& v) {
+void apply_group_constraints(const Model& model, const Controls& controls, const std::vector<HingeState>& joints,
+                             Points& x, Points& v) {
   for (size_t g = 0; g < model.groups.size(); ++g) {
     const KinematicGroup& grp = model.groups[g];
+    if (grp.joint >= 0) {
+      place_attached(model.joints[static_cast<size_t>(grp.joint)].hinge, joints[static_cast<size_t>(grp.joint)],
+                     model.rest_positions, grp.nodes, x, v);
+      continue;
+    }
     const Vec3& off = controls.group_offset.at(g);
     const Vec3& vel = controls.group_velocity.at(g);
     for (int n : grp.nodes)
@@ -81,17 +91,38 @@ void apply_group_constraints(const Model& model, const Controls& controls, Point
 }
 
 void apply_constraints(const Model& model, const Controls& controls, State& state) {
-  apply_group_constraints(model, controls, state.x, state.v);
+  apply_constraints(model, controls, state, nullptr);
+}
+
+void apply_constraints(const Model& model, const Controls& controls, State& state, Scratch* report) {
+  apply_group_constraints(model, controls, state.joints, state.x, state.v);
+  if (model.self_contact) {
+    const SelfContactReport r = resolve_self_contact(*model.self_contact, model.contact_tets, state.x, state.v,
+                                                     model.kinematic);
+    if (report) report->self_contact = r;
+  }
+  if (report && report->obstacles.size() != model.obstacles.size()) report->obstacles.resize(model.obstacles.size());
+  const bool gravity = model.terms & kGravity;
   for (size_t k = 0; k < model.obstacles.size(); ++k) {
     const RigidObstacle& ob = model.obstacles[k];
     const Vec3 off = k < controls.obstacle_offset.size() ? controls.obstacle_offset[k] : Vec3::Zero();
     const Vec3 vel = k < controls.obstacle_velocity.size() ? controls.obstacle_velocity[k] : Vec3::Zero();
+    ObstacleContact* out = report ? &report->obstacles[k] : nullptr;
+    if (out) *out = ObstacleContact{};
     for (int n : ob.nodes) {
       Vec3 x = state.x.col(n), v = state.v.col(n);
-      if (resolve_obstacle_contact(ob, off, vel, x, v)) {
-        state.x.col(n) = x;
-        state.v.col(n) = v;
-      }
+      const ContactGap gap = out ? obstacle_gap(ob, off, x) : ContactGap{};
+      if (!resolve_obstacle_contact(ob, off, vel, x, v)) continue;
+      state.x.col(n) = x;
+      state.v.col(n) = v;
+      if (!out) continue;
+      // The reaction that holds the node on the surface against the last
+      // evaluated forces (rigid_obstacle.hpp).
+      ++out->contacts;
+      out->max_depth = std::max(out->max_depth, gap.depth);
+      const Vec3 g = gravity ? Vec3(controls.load_scale * model.gravity) : Vec3::Zero();
+      const double lambda = std::max(0.0, -(Vec3(report->f.col(n)) + model.mass[n] * g).dot(gap.normal));
+      out->force += lambda * gap.normal;
     }
   }
 }
@@ -105,10 +136,73 @@ void accelerations(const Model& model, const Scratch& scratch, double load_scale
 }
 
 void evaluate_forces(const Model& model, const State& state, Scratch& scratch) {
+  static const Controls none;
+  evaluate_forces(model, state, none, scratch);
+}
+
+void evaluate_forces(const Model& model, const State& state, const Controls& controls, Scratch& scratch) {
   scratch.nonlinear_active = model.reference_forces
                                  ? compute_internal_forces_reference(model, state.x, state.v, scratch.f)
                                  : compute_forces_fast(model, state.x, state.v, scratch.f, scratch);
+  if (!model.strands.empty() || !model.muscles.empty())
+    add_part_forces(model, state.x, state.joints, controls, scratch);
   if (!scratch.f.allFinite()) fail_non_finite_force(model, state);
+}
+
+void step_joints(const Model& model, State& state, const Controls& c, double dt, Scratch& scratch) {
+  const size_t nj = model.joints.size();
+  if (scratch.joints.size() != nj) scratch.joints.resize(nj);
+  scratch.joints_before = state.joints;
+  const Points& f = scratch.f;
+  const Vec3 g = (model.terms & kGravity) ? Vec3(c.load_scale * model.gravity) : Vec3::Zero();
+  for (size_t j = 0; j < nj; ++j) {
+    const Joint& jt = model.joints[j];
+    const Hinge& h = jt.hinge;
+    HingeState& hs = state.joints[j];
+    // Torque about the centre, resultant and first moment of the turning body:
+    // its anchored strands, its nodes, its own mass.
+    Vec3 torque = Vec3::Zero(), applied = Vec3::Zero(), moment = Vec3::Zero();
+    for (size_t si = 0; si < model.strands.size() && si < scratch.anchor_force.size(); ++si) {
+      const Strand& s = model.strands[si];
+      if (s.anchor_group != jt.group) continue;
+      const Vec3 fa = scratch.anchor_force[si];
+      torque += (group_point(model, s.anchor_group, s.anchor_rest, state.x, state.joints) - h.centre).cross(fa);
+      applied += fa;
+    }
+    for (int i : model.groups[static_cast<size_t>(jt.group)].nodes) {
+      const Vec3 r = Vec3(state.x.col(i)) - h.centre;
+      torque += r.cross(Vec3(f.col(i)) + model.mass[i] * g);
+      applied += Vec3(f.col(i)) + model.mass[i] * g;
+      moment += model.mass[i] * r;
+    }
+    if (jt.body.mass > 0.0) {
+      const Vec3 centre = h.centre + hinge_rotation(h, hs.angle) * (jt.body.centre - h.centre);
+      torque += (centre - h.centre).cross(jt.body.mass * g);
+      applied += jt.body.mass * g;
+      moment += jt.body.mass * (centre - h.centre);
+    }
+    const double omega_before = hs.velocity;
+    JointReport& rep = scratch.joints[j];
+    rep.passive_torque = joint_passive_torque(jt, hs);
+    rep.torque = axial_torque(h, torque) + (j < c.joint_torque.size() ? c.joint_torque[j] : 0.0) + rep.passive_torque;
+    if (j < c.scripted_joint.size() && c.scripted_joint[j])
+      hs = *c.scripted_joint[j];
+    else
+      step_hinge(h, rep.torque, dt, hs);
+    // The body's momentum changes by M a_c = R + applied, a_c = alpha n x r_c
+    // - omega^2 r_c,perp (r_c its centre of mass from the joint's centre).
+    const Vec3 n = h.axis;
+    const Vec3 rc_perp = moment - moment.dot(n) * n;
+    const double alpha = dt > 0.0 ? (hs.velocity - omega_before) / dt : 0.0, w = hs.velocity;
+    rep.reaction = alpha * n.cross(moment) - w * w * rc_perp - applied;
+  }
+}
+
+double joint_passive_torque(const Joint& j, const HingeState& s) {
+  double tau = -j.damping * s.velocity;
+  if (s.angle > j.passive_hi) tau -= j.limit_stiffness * (s.angle - j.passive_hi);
+  if (s.angle < j.passive_lo) tau -= j.limit_stiffness * (s.angle - j.passive_lo);
+  return tau;
 }
 
 void step(const Model& model, State& state, const Controls& controls, double dt,
@@ -116,43 +210,54 @@ void step(const Model& model, State& state, const Controls& controls, double dt,
   if (state.x.cols() != model.num_nodes() || state.v.cols() != model.num_nodes())
     throw Error("step: state has " + std::to_string(state.x.cols()) + " nodes, model " +
                 std::to_string(model.num_nodes()));
+  if (state.joints.size() != model.joints.size())
+    throw Error("step: state has " + std::to_string(state.joints.size()) + " joints, model " +
+                std::to_string(model.joints.size()));
+  const bool joints = !model.joints.empty();
   switch (integrator) {
     case Integrator::ExplicitEuler: {
-      evaluate_forces(model, state, scratch);
+      evaluate_forces(model, state, controls, scratch);
       accelerations(model, scratch, controls.load_scale, state.a);
+      if (joints) step_joints(model, state, controls, dt, scratch);
       state.x += dt * state.v;
       state.v += dt * state.a;
       break;
     }
     case Integrator::SymplecticEuler: {
-      evaluate_forces(model, state, scratch);
+      evaluate_forces(model, state, controls, scratch);
       accelerations(model, scratch, controls.load_scale, state.a);
+      if (joints) step_joints(model, state, controls, dt, scratch);
       state.v += dt * state.a;
       state.x += dt * state.v;
       break;
     }
     case Integrator::VelocityVerlet: {
-      if (!state.a_valid) {
-        evaluate_forces(model, state, scratch);
+      if (!state.a_valid || joints) {
+        evaluate_forces(model, state, controls, scratch);
         accelerations(model, scratch, controls.load_scale, state.a);
       }
+      if (joints) step_joints(model, state, controls, dt, scratch);
       state.v += 0.5 * dt * state.a;
       state.x += dt * state.v;
       apply_constraints(model, controls, state);
-      evaluate_forces(model, state, scratch);
+      evaluate_forces(model, state, controls, scratch);
       accelerations(model, scratch, controls.load_scale, state.a);
       state.v += 0.5 * dt * state.a;
       state.a_valid = true;
       break;
     }
     case Integrator::BackwardEuler:
+      if (joints) {
+        evaluate_forces(model, state, controls, scratch);
+        step_joints(model, state, controls, dt, scratch);
+      }
       step_backward_euler(model, state, controls, dt, scratch);
       break;
   }
   if (integrator != Integrator::VelocityVerlet) state.a_valid = false;
   state.t += dt;
   ++state.step;
-  apply_constraints(model, controls, state);
+  apply_constraints(model, controls, state, &scratch);
   check_state(model, state);
 }
 

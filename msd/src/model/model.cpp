@@ -4,6 +4,7 @@
 #include "msd/forces/tet_frame.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace msd {
 
@@ -135,7 +136,70 @@ Model build_model(const TetMesh& mesh, const ModelOptions& options) {
     if (!options.external_force.allFinite()) throw Error("external forces are not finite");
     model.external_force = options.external_force;
   }
+  check_model_parts(model);
   return model;
+}
+
+void check_model_parts(Model& model) {
+  const int n = model.num_nodes();
+  const auto node_ok = [n](int i) { return i >= 0 && i < n; };
+  model.kinematic.assign(static_cast<size_t>(n), 0);
+  for (KinematicGroup& g : model.groups) {
+    g.joint = -1;
+    for (int node : g.nodes) {
+      if (!node_ok(node))
+        throw Error("kinematic group '" + g.name + "' refers to node " + std::to_string(node) + " of " + std::to_string(n));
+      model.kinematic[static_cast<size_t>(node)] = 1;
+    }
+  }
+  for (size_t s = 0; s < model.strands.size(); ++s) {
+    const Strand& st = model.strands[s];
+    const std::string where = "strand " + std::to_string(s);
+    if (st.nodes.size() + (st.anchor_group >= 0 ? 1 : 0) < 2) throw Error(where + " has fewer than two points");
+    for (int node : st.nodes)
+      if (!node_ok(node)) throw Error(where + " refers to node " + std::to_string(node) + " of " + std::to_string(n));
+    if (st.anchor_group >= static_cast<int>(model.groups.size()))
+      throw Error(where + " is anchored on group " + std::to_string(st.anchor_group) + " of " +
+                  std::to_string(model.groups.size()));
+    if (!(st.natural_length > 0.0) || !std::isfinite(st.natural_length) || !(st.k_t > 0.0) || !std::isfinite(st.k_t))
+      throw Error(where + ": natural length and stiffness must be positive and finite");
+    if (!st.anchor_rest.allFinite()) throw Error(where + ": the anchor is not finite");
+  }
+  for (const Muscle& m : model.muscles) {
+    const std::string where = "muscle '" + m.name + "'";
+    if (!(m.unit_force >= 0.0) || !std::isfinite(m.unit_force)) throw Error(where + ": unit force must be >= 0 and finite");
+    if (m.force_length.enabled && !(m.force_length.zero_at >= 0.0 && m.force_length.zero_at < 1.0))
+      throw Error(where + ": the force-length relation's zero stretch must lie in [0, 1)");
+    for (const ContractileUnit& u : m.units)
+      if (!node_ok(u.a) || !node_ok(u.b) || u.a == u.b || !(u.rest_length > 0.0))
+        throw Error(where + " has a unit (" + std::to_string(u.a) + ", " + std::to_string(u.b) +
+                    ") that is not an edge of the mesh with a positive rest length");
+  }
+  for (size_t j = 0; j < model.joints.size(); ++j) {
+    const Joint& jt = model.joints[j];
+    const std::string where = "joint '" + jt.name + "'";
+    if (jt.group < 0 || jt.group >= static_cast<int>(model.groups.size()))
+      throw Error(where + " drives group " + std::to_string(jt.group) + " of " + std::to_string(model.groups.size()));
+    KinematicGroup& g = model.groups[static_cast<size_t>(jt.group)];
+    if (g.joint >= 0) throw Error(where + ": group '" + g.name + "' is driven by another joint already");
+    if (!(g.axes[0] && g.axes[1] && g.axes[2]))
+      throw Error(where + ": group '" + g.name + "' must prescribe all three axes to turn rigidly");
+    check_hinge(jt.hinge);
+    if (std::abs(jt.hinge.axis.norm() - 1.0) > 1e-12) throw Error(where + ": the axis must be a unit vector");
+    if (!(jt.damping >= 0.0) || !(jt.limit_stiffness >= 0.0) || !(jt.passive_lo <= jt.passive_hi) ||
+        !(jt.body.mass >= 0.0))
+      throw Error(where + ": damping, limit stiffness and body mass must be >= 0, passive_lo <= passive_hi");
+    g.joint = static_cast<int>(j);
+  }
+  for (const RigidObstacle& ob : model.obstacles)
+    for (int node : ob.nodes)
+      if (!node_ok(node) || model.kinematic[static_cast<size_t>(node)])
+        throw Error("obstacle '" + ob.name + "' is tested against node " + std::to_string(node) +
+                    ", which is out of range or in a kinematic group");
+  if (model.self_contact && model.contact_tets.empty()) {
+    model.contact_tets.reserve(model.elements.size());
+    for (const Element& e : model.elements) model.contact_tets.push_back(e.nodes);
+  }
 }
 
 State rest_state(const Model& model) {
@@ -143,6 +207,7 @@ State rest_state(const Model& model) {
   s.x = model.rest_positions;
   s.v = Points::Zero(3, model.num_nodes());
   s.a = Points::Zero(3, model.num_nodes());
+  s.joints.assign(model.joints.size(), HingeState{});
   return s;
 }
 

@@ -252,6 +252,48 @@ void set_passive_joint(const LegModelOptions& o, LegModel& leg) {
   leg.passive_hi = o.passive_hi;
 }
 
+// The leg's moving parts as parts of the tissue model, so msd::step advances
+// them: the femur (fixed) and the lower bone (turned by the knee) as kinematic
+// groups, the knee as a joint, the strands, the muscles, the contact behind
+// the knee and the obstacles.
+void compile_parts(LegModel& leg) {
+  Model& tm = leg.tissue;
+  KinematicGroup femur, lower;
+  femur.name = "femur";
+  femur.nodes = leg.femur_nodes;
+  lower.name = "lower bone";
+  lower.nodes = leg.lower_nodes;
+  tm.groups = {femur, lower};
+  Joint knee;
+  knee.name = "knee";
+  knee.group = kLowerBoneGroup;
+  knee.hinge = leg.knee;
+  knee.body = leg.lower_bone;
+  knee.damping = leg.joint_damping;
+  knee.limit_stiffness = leg.limit_stiffness;
+  knee.passive_lo = leg.passive_lo;
+  knee.passive_hi = leg.passive_hi;
+  tm.joints = {knee};
+  tm.strands.clear();
+  for (const LegStrand& ls : leg.strands) {
+    Strand s;
+    s.nodes = ls.nodes;
+    s.natural_length = ls.natural_length;
+    s.k_t = ls.k_t;
+    if (ls.anchored) {
+      s.anchor_group = ls.anchor_bone == 2 ? kLowerBoneGroup : kFemurGroup;
+      s.anchor_rest = ls.anchor_rest;
+    }
+    tm.strands.push_back(s);
+  }
+  tm.muscles = {Muscle{"front muscle", leg.front_units, leg.front_unit_force, leg.force_length},
+                Muscle{"back muscle", leg.back_units, leg.back_unit_force, leg.force_length}};
+  tm.self_contact = leg.knee_contact;
+  tm.contact_tets = leg.tets;
+  tm.obstacles = leg.obstacles;
+  check_model_parts(tm);
+}
+
 }  // namespace
 
 LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& tendons, const LegModelOptions& o) {
@@ -270,6 +312,7 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
   build_muscles(m, o, leg);
   leg.leg_axis = o.leg_axis.normalized();
   set_passive_joint(o, leg);
+  compile_parts(leg);
   return leg;
 }
 
@@ -291,126 +334,50 @@ LegState leg_rest_state(const LegModel& model, double angle, double blend) {
   return s;
 }
 
-void step_leg(const LegModel& model, LegState& state, const LegControls& c, double dt, LegScratch& scratch) {
+void step_leg(const LegModel& model, LegState& state, const LegControls& c, double dt, LegScratch& scratch,
+              Integrator integrator) {
   const Model& tm = model.tissue;
-  State& ts = state.tissue;
-  evaluate_forces(tm, ts, scratch.tissue);
-  Points& f = scratch.tissue.f;
-
-  // Tendons (tension only) and muscles add to the one force buffer.
-  scratch.tendon_tension.assign(model.tendon_names.size(), 0.0);
-  Vec3 anchor_torque = Vec3::Zero(), anchor_force = Vec3::Zero();  // on the lower bone through anchors
+  // The leg's controls as the tissue model's (buffers reused: no allocation
+  // once sized).
+  Controls& tc = scratch.controls;
+  tc.group_offset.assign(tm.groups.size(), Vec3::Zero());
+  tc.group_velocity.assign(tm.groups.size(), Vec3::Zero());
+  tc.activation.assign(tm.muscles.size(), 0.0);
+  tc.activation[kFrontMuscleIndex] = c.front_activation;
+  tc.activation[kBackMuscleIndex] = c.back_activation;
+  tc.strand_natural_length.resize(model.strands.size());
   for (size_t si = 0; si < model.strands.size(); ++si) {
     const LegStrand& s = model.strands[si];
     const double scale = (static_cast<size_t>(s.tendon) < c.tendon_length_scale.size()
                               ? c.tendon_length_scale[static_cast<size_t>(s.tendon)]
                               : 1.0) *
                          (si < c.strand_natural_length.size() ? c.strand_natural_length[si] / s.natural_length : 1.0);
-    if (!s.anchored) {
-      scratch.tendon_tension[static_cast<size_t>(s.tendon)] +=
-          add_tendon_forces(ts.x, s.nodes, scale * s.natural_length, s.k_t, f);
-      continue;
-    }
-    Points& p = scratch.strand_points;
-    Points& fl = scratch.strand_forces;
-    std::vector<int>& idx = scratch.strand_index;
-    leg_strand_points(model, s, ts.x, state.knee.angle, p);
-    if (idx.size() != static_cast<size_t>(p.cols())) {
-      idx.resize(static_cast<size_t>(p.cols()));
-      for (size_t k = 0; k < idx.size(); ++k) idx[k] = static_cast<int>(k);
-    }
-    fl.setZero(3, p.cols());
-    scratch.tendon_tension[static_cast<size_t>(s.tendon)] += add_tendon_forces(p, idx, scale * s.natural_length, s.k_t, fl);
-    for (size_t k = 0; k < s.nodes.size(); ++k) f.col(s.nodes[k]) += fl.col(static_cast<Eigen::Index>(k));
-    if (s.anchor_bone == 2) {
-      const Vec3 fa = fl.col(p.cols() - 1);
-      anchor_torque += (Vec3(p.col(p.cols() - 1)) - model.knee.centre).cross(fa);
-      anchor_force += fa;
-    }
+    tc.strand_natural_length[si] = scale * s.natural_length;
   }
-  if (c.front_activation > 0.0)
-    add_muscle_forces(ts.x, model.front_units, c.front_activation * model.front_unit_force, f, model.force_length);
-  if (c.back_activation > 0.0)
-    add_muscle_forces(ts.x, model.back_units, c.back_activation * model.back_unit_force, f, model.force_length);
+  tc.joint_torque.assign(1, c.joint_torque);
+  tc.scripted_joint.assign(1, c.scripted_knee);
+  tc.obstacle_offset.assign(c.obstacle_offset.begin(), c.obstacle_offset.end());
+  tc.obstacle_velocity.assign(c.obstacle_velocity.begin(), c.obstacle_velocity.end());
 
-  // The torque on the lower leg about the hinge.
-  const bool gravity = tm.terms & kGravity;
-  const Vec3 g = gravity ? tm.gravity : Vec3::Zero();
-  // (And, for the joint reaction, the lower leg's mass, first moment and the
-  // resultant of the forces on it.)
-  Vec3 torque = anchor_torque, applied = anchor_force, moment = Vec3::Zero();
-  for (int i : model.lower_nodes) {
-    const Vec3 r = Vec3(ts.x.col(i)) - model.knee.centre;
-    torque += r.cross(Vec3(f.col(i)) + tm.mass[i] * g);
-    applied += Vec3(f.col(i)) + tm.mass[i] * g;
-    moment += tm.mass[i] * r;
+  state.tissue.joints.resize(1);
+  state.tissue.joints[kKneeJoint] = state.knee;
+  try {
+    step(tm, state.tissue, tc, dt, integrator, scratch.tissue);
+  } catch (...) {
+    state.knee = state.tissue.joints[kKneeJoint];
+    throw;
   }
-  if (model.lower_bone.mass > 0.0) {
-    const Vec3 centre = model.knee.centre + hinge_rotation(model.knee, state.knee.angle) *
-                                                (model.lower_bone.centre - model.knee.centre);
-    torque += (centre - model.knee.centre).cross(model.lower_bone.mass * g);
-    applied += model.lower_bone.mass * g;
-    moment += model.lower_bone.mass * (centre - model.knee.centre);
-  }
-  const double omega_before = state.knee.velocity;
-  scratch.passive_joint_torque = passive_joint_torque(model, state.knee);
-  scratch.knee_torque = axial_torque(model.knee, torque) + c.joint_torque + scratch.passive_joint_torque;
+  state.knee = state.tissue.joints[kKneeJoint];
 
-  // Free nodes: semi-implicit Euler.
-  for (int i = 0; i < tm.num_nodes(); ++i) {
-    if (model.attached[static_cast<size_t>(i)]) continue;
-    ts.v.col(i) += dt * (f.col(i) * tm.inv_mass[i] + g);
-    ts.x.col(i) += dt * ts.v.col(i);
-  }
-  // The knee, then the bones' nodes.
-  if (c.scripted_knee)
-    state.knee = *c.scripted_knee;
-  else
-    step_hinge(model.knee, scratch.knee_torque, dt, state.knee);
-  place_attached(model.knee, state.knee, tm.rest_positions, model.lower_nodes, ts.x, ts.v);
-  // Joint reaction: the lower leg's momentum changes by M a_c = R + applied,
-  // a_c = alpha n x r_c - omega^2 r_c,perp (r_c its centre of mass from the
-  // knee's centre, first moment / M).
-  {
-    const Vec3 n = model.knee.axis;
-    const Vec3 rc = moment;  // M r_c
-    const Vec3 rc_perp = rc - rc.dot(n) * n;
-    const double alpha = dt > 0.0 ? (state.knee.velocity - omega_before) / dt : 0.0, w = state.knee.velocity;
-    scratch.joint_reaction = alpha * n.cross(rc) - w * w * rc_perp - applied;
-  }
-  for (int i : model.femur_nodes) {
-    ts.x.col(i) = tm.rest_positions.col(i);
-    ts.v.col(i).setZero();
-  }
-  scratch.knee_contact = model.knee_contact
-                             ? resolve_self_contact(*model.knee_contact, model.tets, ts.x, ts.v, model.attached)
-                             : SelfContactReport{};
-  scratch.obstacles.assign(model.obstacles.size(), ObstacleContact{});
-  for (size_t k = 0; k < model.obstacles.size(); ++k) {
-    const RigidObstacle& ob = model.obstacles[k];
-    const Vec3 off = k < c.obstacle_offset.size() ? c.obstacle_offset[k] : Vec3::Zero();
-    const Vec3 vel = k < c.obstacle_velocity.size() ? c.obstacle_velocity[k] : Vec3::Zero();
-    ObstacleContact& report = scratch.obstacles[k];
-    for (int i : ob.nodes) {
-      Vec3 x = ts.x.col(i), v = ts.v.col(i);
-      const ContactGap gap = obstacle_gap(ob, off, x);
-      if (!resolve_obstacle_contact(ob, off, vel, x, v)) continue;
-      ts.x.col(i) = x;
-      ts.v.col(i) = v;
-      ++report.contacts;
-      report.max_depth = std::max(report.max_depth, gap.depth);
-      const double lambda = std::max(0.0, -(Vec3(f.col(i)) + tm.mass[i] * g).dot(gap.normal));
-      report.force += lambda * gap.normal;  // the object pushes the node out along its normal
-    }
-  }
-  ts.t += dt;
-  ++ts.step;
-  if (!ts.x.allFinite() || !ts.v.allFinite() || !std::isfinite(state.knee.angle)) {
-    for (int i = 0; i < tm.num_nodes(); ++i)
-      if (!ts.x.col(i).allFinite() || !ts.v.col(i).allFinite())
-        throw SimulationFailure("leg: non-finite position or velocity", ts.t, ts.step, -1, i);
-    throw SimulationFailure("leg: non-finite knee angle", ts.t, ts.step, -1, -1);
-  }
+  const Scratch& ts = scratch.tissue;
+  scratch.tendon_tension.assign(model.tendon_names.size(), 0.0);
+  for (size_t si = 0; si < model.strands.size(); ++si)
+    scratch.tendon_tension[static_cast<size_t>(model.strands[si].tendon)] += ts.strand_tension[si];
+  scratch.knee_torque = ts.joints[kKneeJoint].torque;
+  scratch.passive_joint_torque = ts.joints[kKneeJoint].passive_torque;
+  scratch.joint_reaction = ts.joints[kKneeJoint].reaction;
+  scratch.knee_contact = ts.self_contact;
+  scratch.obstacles.assign(ts.obstacles.begin(), ts.obstacles.end());
 }
 
 namespace {
@@ -448,10 +415,7 @@ double leg_strand_energy(const LegModel& model, const LegStrand& s, const Points
 }
 
 double passive_joint_torque(const LegModel& model, const HingeState& knee) {
-  double tau = -model.joint_damping * knee.velocity;
-  if (knee.angle > model.passive_hi) tau -= model.limit_stiffness * (knee.angle - model.passive_hi);
-  if (knee.angle < model.passive_lo) tau -= model.limit_stiffness * (knee.angle - model.passive_lo);
-  return tau;
+  return joint_passive_torque(model.tissue.joints[kKneeJoint], knee);
 }
 
 double leg_kinetic_energy(const LegModel& model, const LegState& state) {

@@ -4,6 +4,8 @@
 #include "msd/forces/edge_springs.hpp"
 #include "msd/forces/element_forces.hpp"
 #include "msd/forces/face_repulsion.hpp"
+#include "msd/forces/muscle_units.hpp"
+#include "msd/forces/tendon.hpp"
 
 #include "test_support.hpp"
 
@@ -170,4 +172,65 @@ TEST(Jacobians, AnElementTheThresholdLeavesOutHasNone) {
   x[3].z() *= 0.5;  // below 0.7 of its rest height: on
   EXPECT_TRUE(msd::nonlinear_element_jacobian(m, m.elements[0], x, K));
   EXPECT_GT(K.cwiseAbs().maxCoeff(), 0.0);
+}
+
+// --- The moving parts (msd/forces/parts.hpp) --------------------------------
+
+TEST(Jacobians, MuscleUnitMatchesFiniteDifferencesOnEveryLimbOfItsForceLength) {
+  const double rest = 0.02, force = 3.0;
+  const msd::ForceLength fl{true, 0.5};
+  auto pull = [&](const msd::ForceLength& law) {
+    return [&, law](const Vec3& l) {
+      msd::Points x(3, 2), f = msd::Points::Zero(3, 2);
+      x.col(0).setZero();
+      x.col(1) = l;
+      msd::add_muscle_forces(x, {{0, 1, rest}}, force, f, law);
+      return Vec3(f.col(0));
+    };
+  };
+  const Vec3 dir = Vec3(0.3, -0.2, 0.9).normalized();
+  for (double stretch : {0.55, 0.7, 0.95, 1.2}) {  // ascending limb, and the plateau above 1
+    const Vec3 l = stretch * rest * dir + Vec3(1e-4, 2e-4, 0.0);
+    for (const msd::ForceLength& law : {fl, msd::ForceLength{}}) {
+      const Mat3 J = msd::muscle_unit_jacobian(l, rest, force, law), Jfd = fd3(pull(law), l, 1e-8);
+      EXPECT_LT((J - Jfd).norm(), 1e-6 * Jfd.norm()) << "stretch " << stretch << " f_L " << law.enabled;
+    }
+  }
+  // Below lambda_0 the unit pulls nothing and its Jacobian is zero.
+  EXPECT_EQ(msd::muscle_unit_jacobian(0.4 * rest * dir, rest, force, fl).norm(), 0.0);
+}
+
+TEST(Jacobians, StrandMatchesFiniteDifferencesAndIsSymmetricAndZeroWhenSlack) {
+  // A bent strand of five points stretched 6 % past its natural length.
+  msd::Points p(3, 5);
+  p << 0.00, 0.010, 0.020, 0.031, 0.040,  //
+      0.00, 0.004, 0.003, -0.002, 0.001,  //
+      0.00, 0.010, 0.021, 0.030, 0.042;
+  std::vector<int> idx = {0, 1, 2, 3, 4};
+  const double length = msd::strand_length(p, idx), k_t = 4.8e5, l0 = length / 1.06;
+  Eigen::MatrixXd K;
+  ASSERT_TRUE(msd::strand_jacobian(p, l0, k_t, K));
+  Eigen::MatrixXd Kfd(15, 15);
+  const double h = 1e-8;
+  for (int k = 0; k < 15; ++k) {
+    msd::Points up = p, down = p, fu = msd::Points::Zero(3, 5), fd = msd::Points::Zero(3, 5);
+    up.data()[k] += h;
+    down.data()[k] -= h;
+    msd::add_tendon_forces(up, idx, l0, k_t, fu);
+    msd::add_tendon_forces(down, idx, l0, k_t, fd);
+    Kfd.col(k) = (Eigen::Map<const Eigen::VectorXd>(fu.data(), 15) - Eigen::Map<const Eigen::VectorXd>(fd.data(), 15)) /
+                 (2 * h);
+  }
+  EXPECT_LT((K - Kfd).cwiseAbs().maxCoeff(), 1e-6 * Kfd.cwiseAbs().maxCoeff());
+  EXPECT_LT((K - K.transpose()).cwiseAbs().maxCoeff(), 1e-9 * K.cwiseAbs().maxCoeff());
+  // A rigid translation changes no force: every row's blocks sum to zero.
+  for (int r = 0; r < 15; ++r)
+    for (int d = 0; d < 3; ++d) {
+      double sum = 0.0;
+      for (int j = 0; j < 5; ++j) sum += K(r, 3 * j + d);
+      EXPECT_NEAR(sum, 0.0, 1e-9 * K.cwiseAbs().maxCoeff());
+    }
+  // Slack: no tension, no stiffness.
+  EXPECT_FALSE(msd::strand_jacobian(p, 1.01 * length, k_t, K));
+  EXPECT_EQ(K.norm(), 0.0);
 }

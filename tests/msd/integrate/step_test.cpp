@@ -124,3 +124,119 @@ TEST(Step, IntegratorNames) {
   EXPECT_EQ(msd::parse_integrator("semi_implicit_euler"), msd::Integrator::SymplecticEuler);
   EXPECT_THROW(msd::parse_integrator("rk4"), msd::Error);
 }
+
+// --- Joints: a kinematic group turned by a hinge (msd::Joint) -----------------
+
+namespace {
+
+// The corner tet (1 m edges) with all four nodes on a hinge about the x axis
+// through the origin, under gravity: a rigid pendulum.
+msd::Model pendulum() {
+  msd::TissueMaterial mat;
+  mat.density = 6.0;
+  mat.k_s = 100.0;
+  msd::ModelOptions o;
+  o.terms = msd::kSprings | msd::kGravity;
+  o.gravity = Vec3(0, 0, -9.81);
+  o.region_materials = {mat};
+  o.groups = {{"body", {0, 1, 2, 3}, {true, true, true}}};
+  msd::Model m = msd::build_model(testing_support::corner_tet_mesh(1.0), o);
+  msd::Joint j;
+  j.name = "hinge";
+  j.group = 0;
+  j.hinge.axis = Vec3::UnitX();
+  j.hinge.min_angle = -3.0;
+  j.hinge.max_angle = 3.0;
+  j.hinge.inertia = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    const Vec3 r = m.rest_positions.col(i);
+    j.hinge.inertia += m.mass[i] * (r - r.dot(j.hinge.axis) * j.hinge.axis).squaredNorm();
+  }
+  m.joints = {j};
+  msd::check_model_parts(m);
+  return m;
+}
+
+msd::Controls still(const msd::Model& m) {
+  msd::Controls c;
+  c.group_offset.assign(m.groups.size(), Vec3::Zero());
+  c.group_velocity.assign(m.groups.size(), Vec3::Zero());
+  return c;
+}
+
+}  // namespace
+
+TEST(Step, AJointTurnsItsGroupRigidlyUnderTheTorqueOfItsWeight) {
+  const msd::Model m = pendulum();
+  msd::State s = msd::rest_state(m);
+  s.joints[0].angle = 0.3;
+  const msd::Controls c = still(m);
+  msd::apply_constraints(m, c, s);
+  // The torque of the weights about the x axis, by hand: sum m_i (r_i x g) . x.
+  double tau = 0.0;
+  for (int i = 0; i < 4; ++i) tau += m.mass[i] * Vec3(s.x.col(i)).cross(m.gravity).x();
+  const double dt = 1e-3, I = m.joints[0].hinge.inertia;
+  msd::Scratch scratch;
+  msd::step(m, s, c, dt, msd::Integrator::SymplecticEuler, scratch);
+  EXPECT_NEAR(scratch.joints[0].torque, tau, 1e-12 * std::abs(tau));
+  EXPECT_NEAR(s.joints[0].velocity, dt * tau / I, 1e-12);
+  EXPECT_NEAR(s.joints[0].angle, 0.3 + dt * dt * tau / I, 1e-12);
+  // Rigid: every node where R(theta) puts it, edges unchanged, velocity omega x r.
+  const Eigen::Matrix3d R = msd::hinge_rotation(m.joints[0].hinge, s.joints[0].angle);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_LT((Vec3(s.x.col(i)) - R * Vec3(m.rest_positions.col(i))).norm(), 1e-14);
+    const Vec3 w = s.joints[0].velocity * Vec3::UnitX();
+    EXPECT_LT((Vec3(s.v.col(i)) - w.cross(Vec3(s.x.col(i)))).norm(), 1e-14);
+  }
+  // The weight turns the body back towards hanging (its centre is on the +y side of the axis).
+  EXPECT_LT(tau, 0.0);
+}
+
+TEST(Step, AJointTakesAnAddedTorqueItsPassiveDampingAndAScriptedOverride) {
+  msd::Model m = pendulum();
+  m.terms &= ~static_cast<unsigned>(msd::kGravity);
+  m.joints[0].damping = 2.0;
+  msd::State s = msd::rest_state(m);
+  s.joints[0].velocity = 1.5;
+  msd::Controls c = still(m);
+  c.joint_torque = {4.0};
+  msd::Scratch scratch;
+  msd::step(m, s, c, 1e-3, msd::Integrator::SymplecticEuler, scratch);
+  EXPECT_DOUBLE_EQ(scratch.joints[0].passive_torque, -2.0 * 1.5);
+  EXPECT_NEAR(scratch.joints[0].torque, 4.0 - 3.0, 1e-12);  // no other force: the rest state is force-free
+  EXPECT_NEAR(s.joints[0].velocity, 1.5 + 1e-3 * 1.0 / m.joints[0].hinge.inertia, 1e-12);
+  c.scripted_joint = {msd::HingeState{0.7, -0.25}};
+  msd::step(m, s, c, 1e-3, msd::Integrator::BackwardEuler, scratch);
+  EXPECT_EQ(s.joints[0].angle, 0.7);
+  EXPECT_EQ(s.joints[0].velocity, -0.25);
+  const Eigen::Matrix3d R = msd::hinge_rotation(m.joints[0].hinge, 0.7);
+  EXPECT_LT((Vec3(s.x.col(3)) - R * Vec3(m.rest_positions.col(3))).norm(), 1e-14);
+}
+
+TEST(Step, BadPartsAreRefusedByName) {
+  msd::Model m = pendulum();
+  m.groups[0].axes[2] = false;
+  try {
+    msd::check_model_parts(m);
+    FAIL() << "a joint on a group that frees an axis was accepted";
+  } catch (const msd::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("joint 'hinge'"), std::string::npos) << e.what();
+  }
+  msd::Model m2 = pendulum();
+  m2.strands = {msd::Strand{{0, 7}, 1.0, 10.0, -1, Vec3::Zero()}};
+  EXPECT_THROW(msd::check_model_parts(m2), msd::Error);
+  msd::Model m3 = pendulum();
+  m3.muscles = {msd::Muscle{"biceps", {{0, 1, 1.0}}, -1.0, {}}};
+  try {
+    msd::check_model_parts(m3);
+    FAIL() << "a negative unit force was accepted";
+  } catch (const msd::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("muscle 'biceps'"), std::string::npos) << e.what();
+  }
+  // A state without the model's joints is refused by step.
+  const msd::Model ok = pendulum();
+  msd::State s = msd::rest_state(ok);
+  s.joints.clear();
+  msd::Scratch scratch;
+  EXPECT_THROW(msd::step(ok, s, still(ok), 1e-3, msd::Integrator::SymplecticEuler, scratch), msd::Error);
+}

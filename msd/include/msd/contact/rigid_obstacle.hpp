@@ -90,6 +90,13 @@ struct RigidObstacle {
   std::vector<int> nodes;
 };
 
+/// What an obstacle did in the last step.
+struct ObstacleContact {
+  int contacts = 0;           ///< nodes found inside and put back on its surface
+  double max_depth = 0.0;     ///< deepest of them, m
+  Vec3 force{Vec3::Zero()};   ///< on the tissue: sum of lambda n, lambda = max(0, -f . n)
+};
+
 /// Where x lies relative to the obstacle moved by `offset`.
 ContactGap obstacle_gap(const RigidObstacle& ob, const Vec3& offset, const Vec3& x);
 /// The thesis' response against the obstacle's shape (resolve_cylinder_contact

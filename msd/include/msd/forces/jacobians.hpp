@@ -20,6 +20,18 @@
 // vertex coordinate (forward mode, by the product and chain rules through
 // m_i = d(6V)/dx_i, |m_i|, h_i and f_i); the volume term is not a gradient, so
 // the matrix is not symmetric.
+//
+// The moving parts (msd/forces/parts.hpp):
+//  - a contractile unit, F_a = phi(|l|) u with phi = F f_L(|l| / r):
+//      dF_a/dl = phi/|l| (I - u u^T) + (F/r) f_L'(|l|/r) u u^T,
+//      f_L' = 2 s / (1 - lambda_0) on the ascending limb (s as in
+//      muscle_units.hpp), 0 elsewhere;
+//  - a strand through points p_0 ... p_{m-1} with L = sum |d_s|, d_s = p_{s+1} - p_s,
+//    gradient g = dL/dp (g_i = u_{i-1} - u_i) and T = k_t (L - L0) > 0: the
+//    force is -T g, so
+//      K = -k_t g g^T - T sum_s P_s / |d_s|   (P_s = I - u_s u_s^T in the
+//      blocks (s, s), (s+1, s+1), and with a minus sign in (s, s+1), (s+1, s)),
+//    dense over the strand's points and symmetric; 0 for a slack strand.
 #pragma once
 
 #include "msd/core/types.hpp"
@@ -46,5 +58,14 @@ double face_repulsion_slope(double x, double x0, double kr, double floor);
 /// (overwritten). Returns false and leaves K zero when the thesis 5.8
 /// threshold leaves the element out, exactly as add_nonlinear_element_forces.
 bool nonlinear_element_jacobian(const Model& model, const Element& el, const Vec3 x[4], Mat12& K);
+
+/// dF_a/dl of a contractile unit pulling its ends together with `force` times
+/// f_L(|l| / rest_length) (add_muscle_forces; l = x_b - x_a).
+Mat3 muscle_unit_jacobian(const Vec3& l, double rest_length, double force, const ForceLength& fl);
+
+/// dF/dp (3m x 3m; block (i, j) = dF_i/dp_j) of a tension-only strand through
+/// the points p (3 x m) into K (resized only when its size differs). Returns
+/// false and sets K to zero when the strand is slack.
+bool strand_jacobian(const Points& p, double natural_length, double k_t, Eigen::MatrixXd& K);
 
 }  // namespace msd

@@ -32,6 +32,11 @@ struct SystemLayout {
   std::vector<int> column_start;
   /// Per tet, the block of its local vertex pair (i, j) at [16 t + 4 i + j].
   std::vector<int> tet_block;
+  /// Per strand s, the blocks of its node pairs (i, j), m x m row-major, at
+  /// strand_block[strand_block_offset[s] + i m + j].
+  std::vector<int> strand_block_offset, strand_block;
+  /// Per muscle unit (muscles in order, units in order): its (a, b) and (b, a) blocks.
+  std::vector<int> unit_block;
   /// Per degree of freedom (3 n + axis): prescribed by a kinematic group.
   std::vector<char> fixed;
 };
@@ -45,6 +50,12 @@ SystemLayout make_system_layout(const Model& model);
 /// are left as assembled.
 void assemble_system(const Model& model, const SystemLayout& layout, const Points& x, const Points& v, double c_m,
                      double c_d, double c_k, Eigen::SparseMatrix<double>& A);
+
+/// The same with the moving parts' stiffness (strands and muscles, jacobians.hpp)
+/// under `controls`, anchors placed with the joints' states `joints`.
+void assemble_system(const Model& model, const SystemLayout& layout, const Points& x, const Points& v,
+                     const std::vector<HingeState>& joints, const Controls& controls, double c_m, double c_d,
+                     double c_k, Eigen::SparseMatrix<double>& A);
 
 /// One backward-Euler step (called by step() for Integrator::BackwardEuler).
 /// Throws SimulationFailure naming the time, step, node with the largest

@@ -41,13 +41,27 @@ class SimulationFailure : public Error {
 };
 
 /// Sets the constrained components of group nodes in x and v from `controls`
-/// (position = rest + offset, velocity = the group's).
-void apply_group_constraints(const Model& model, const Controls& controls, Points& x, Points& v);
+/// (position = rest + offset, velocity = the group's), or - for a group a
+/// joint drives - turns them rigidly to the joint's state in `joints`.
+void apply_group_constraints(const Model& model, const Controls& controls, const std::vector<HingeState>& joints,
+                             Points& x, Points& v);
 
-/// Sets the constrained components of group nodes from `controls`, then
-/// resolves the contacts with the model's rigid obstacles at their placement
-/// in `controls`.
+/// Sets the constrained components of group nodes from `controls` and the
+/// joints, resolves skin-against-skin contact (Model::self_contact), then the
+/// contacts with the model's rigid obstacles at their placement in `controls`.
+/// With `report`: its self_contact and obstacles record what was done, the
+/// obstacles' reactions from the forces in report->f.
 void apply_constraints(const Model& model, const Controls& controls, State& state);
+void apply_constraints(const Model& model, const Controls& controls, State& state, Scratch* report);
+
+/// The passive torque of a joint at state s (N m): -damping omega, and the
+/// end-range torque outside [passive_lo, passive_hi].
+double joint_passive_torque(const Joint& joint, const HingeState& s);
+
+/// Steps the model's joints by dt (semi-implicit Euler, or their scripted
+/// state) under the torque of the forces in scratch.f at `state`, recording
+/// scratch.joints and the states before in scratch.joints_before.
+void step_joints(const Model& model, State& state, const Controls& controls, double dt, Scratch& scratch);
 
 /// Acceleration (f + s f_ext) / m (+ s g when gravity is enabled) from the
 /// internal forces in scratch.f, with s = load_scale.
@@ -61,6 +75,9 @@ void step(const Model& model, State& state, const Controls& controls, double dt,
 
 /// Evaluates internal forces at the current state into scratch.f (and the
 /// nonlinear activity count), throwing SimulationFailure on a non-finite value.
+/// With `controls`: the strands and muscles under them (msd/forces/parts.hpp);
+/// without: relaxed muscles, the model's natural lengths.
 void evaluate_forces(const Model& model, const State& state, Scratch& scratch);
+void evaluate_forces(const Model& model, const State& state, const Controls& controls, Scratch& scratch);
 
 }  // namespace msd

@@ -5,13 +5,18 @@
 #pragma once
 
 #include "msd/contact/rigid_obstacle.hpp"
+#include "msd/contact/self_contact.hpp"
 #include "msd/core/types.hpp"
+#include "msd/forces/muscle_units.hpp"
 #include "msd/material/tissue_material.hpp"
 #include "msd/mesh/tet_mesh.hpp"
+#include "msd/skeleton/hinge.hpp"
+#include "msd/skeleton/rigid_body.hpp"
 
 #include <Eigen/Core>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -74,10 +79,53 @@ struct ForcePlan {
 /// rest position + offset(t) and velocity = velocity(t), both from Controls.
 /// (A bonded platen prescribes all three axes; a frictionless one only its
 /// normal axis.)
+/// A group driven by a joint (Model::joints) turns rigidly with it instead:
+/// x = c + R(theta) (X - c), v = omega n x (x - c) (msd/skeleton/hinge.hpp).
 struct KinematicGroup {
   std::string name;
   std::vector<int> nodes;
   bool axes[3] = {true, true, true};
+  int joint = -1;  ///< the joint driving it (set by check_model_parts), or -1
+};
+
+/// A tendon strand (msd/forces/tendon.hpp, thesis 5.3): a tension-only cable
+/// through `nodes`, then - when `anchor_group` >= 0 - through a point fixed on
+/// that kinematic group (its insertion on a bone), at `anchor_rest` when the
+/// group is at rest. The anchor moves with its group (turned by its joint, or
+/// translated with its first node).
+struct Strand {
+  std::vector<int> nodes;
+  double natural_length = 0.0;  ///< m (Controls::strand_natural_length overrides)
+  double k_t = 0.0;             ///< E A / L0, N/m
+  int anchor_group = -1;
+  Vec3 anchor_rest{Vec3::Zero()};
+};
+
+/// A muscle's contractile units (msd/forces/muscle_units.hpp, thesis 5.2.7):
+/// each pulls with activation * unit_force (times f_L of its stretch when
+/// `force_length` is enabled); the activation comes from Controls.
+struct Muscle {
+  std::string name;
+  std::vector<ContractileUnit> units;
+  double unit_force = 0.0;  ///< N per unit at activation 1
+  ForceLength force_length;
+};
+
+/// A hinge joint (thesis 5.4) turning one kinematic group - a rigid bone and
+/// the nodes attached to it - about a fixed axis. Its torque is everything
+/// acting on the group's nodes (their internal forces, weight), the strands
+/// anchored on it, the body's own weight, an added torque from Controls and
+/// the joint's passive structures: -damping omega, and -limit_stiffness
+/// (theta - passive_hi) above passive_hi (likewise below passive_lo). The
+/// joint is stepped by semi-implicit Euler with the torque at the start of
+/// the step, whatever the nodes' integrator (a partitioned scheme: the
+/// implicit integrator solves the tissue with the group at its new angle).
+struct Joint {
+  std::string name;
+  int group = -1;
+  Hinge hinge;          ///< centre, unit axis, range, inertia (of body and group nodes)
+  MassProperties body;  ///< the rigid body's own mass beside its nodes' (0: none)
+  double damping = 0.0, limit_stiffness = 0.0, passive_lo = 0.0, passive_hi = 0.0;
 };
 
 struct Model {
@@ -100,6 +148,16 @@ struct Model {
   /// collision work at all.
   std::vector<RigidObstacle> obstacles;
   std::vector<TissueMaterial> region_materials;  ///< by region label
+  /// The moving parts besides the tissue (the leg's, thesis 5.3-5.6): tendon
+  /// strands, muscles, joints and skin-against-skin contact (its tets are
+  /// the model's elements; kinematic nodes are never moved by it). Set after
+  /// build_model, then checked by check_model_parts.
+  std::vector<Strand> strands;
+  std::vector<Muscle> muscles;
+  std::vector<Joint> joints;
+  std::optional<SelfContactRegion> self_contact;
+  std::vector<Tet> contact_tets;      ///< the elements' nodes (for self_contact)
+  std::vector<char> kinematic;        ///< per node: in a kinematic group (for self_contact)
   ForcePlan plan;   ///< the fast evaluation's layout (build_model)
   int threads = 1;  ///< threads of the force evaluation (results do not depend on it)
   /// Evaluate with the per-tet reference loop instead of the engine (the path
@@ -134,6 +192,13 @@ struct ModelOptions {
 /// per-element constants, lumps masses. Throws msd::Error with context.
 Model build_model(const TetMesh& mesh, const ModelOptions& options);
 
+/// Checks the model's strands, muscles, joints and self-contact (nodes and
+/// groups in range, positive lengths and stiffnesses, a joint per group at
+/// most, joints only on groups prescribing all three axes) and links each
+/// driven group to its joint. Call after setting them. Throws msd::Error
+/// naming the part.
+void check_model_parts(Model& model);
+
 /// Mutable simulation state.
 struct State {
   Points x;            ///< positions, 3 x N
@@ -142,6 +207,7 @@ struct State {
   long step = 0;       ///< steps taken
   Points a;            ///< last acceleration (velocity Verlet's memory)
   bool a_valid = false;
+  std::vector<HingeState> joints;  ///< per Model::joints
 };
 
 /// The rest state: x = rest positions, v = 0, t = 0.
@@ -157,6 +223,22 @@ struct Controls {
   std::vector<Vec3> obstacle_offset{};
   std::vector<Vec3> obstacle_velocity{};
   double load_scale = 1.0;
+  /// Per muscle, 0 ... 1; empty: all relaxed.
+  std::vector<double> activation{};
+  /// Per strand, natural lengths replacing the model's (infinity: slack);
+  /// empty: the model's.
+  std::vector<double> strand_natural_length{};
+  /// Per joint: a torque added about its axis (N m; empty: none) and a
+  /// kinematic override of its angle and velocity (empty or unset: dynamic).
+  std::vector<double> joint_torque{};
+  std::vector<std::optional<HingeState>> scripted_joint{};
+};
+
+/// What a joint did in the last step.
+struct JointReport {
+  double torque = 0.0;          ///< about the axis, N m (all of it)
+  double passive_torque = 0.0;  ///< of it, the joint's passive structures
+  Vec3 reaction{Vec3::Zero()};  ///< force the fixed side exerts on the turning body at the joint, N
 };
 
 struct ImplicitWorkspace;  // msd/integrate/implicit.hpp
@@ -174,6 +256,15 @@ struct Scratch {
   int last_newton_iterations = 0;  ///< of the last implicit step
   int last_step_cuts = 0;          ///< times the last implicit step was halved
   long step_cuts = 0;              ///< halvings of the implicit steps so far
+  // The moving parts (Model::strands ... self_contact), per evaluation / step:
+  std::vector<double> strand_tension;  ///< per strand, N (>= 0)
+  std::vector<Vec3> anchor_force;      ///< per strand: the force on its anchor, N (zero without one)
+  std::vector<JointReport> joints;     ///< per joint
+  SelfContactReport self_contact;      ///< skin against skin
+  std::vector<ObstacleContact> obstacles;  ///< per obstacle
+  std::vector<HingeState> joints_before;   ///< the joints at the step's start (buffer)
+  Points strand_points, strand_forces;     ///< an anchored strand's points and forces (buffers)
+  std::vector<int> strand_index;           ///< 0 ... m-1 (buffer)
 };
 
 }  // namespace msd

@@ -1,14 +1,18 @@
 // The leg in motion (thesis 5.2.7, 5.3, 5.4): the meshed limb compiled into a
 // tissue model, a fixed femur, a lower bone on the knee hinge, tendon strands
-// and contractile units; one step advances all of them together.
+// and contractile units; one step advances all of them together. They are all
+// parts of the one msd::Model (LegModel::tissue: two kinematic groups, the
+// knee joint driving the second, the strands, the two muscles, the contact
+// behind the knee and the obstacles), and step_leg is msd::step on it with the
+// leg's controls translated - the benchmarks' step, with any integrator.
 //
 // What moves how:
 //  - femur nodes (the upper bone's tet nodes and bone points) are held at rest
 //    (the thigh fixed, thesis 3.7.2 "kinematic");
 //  - lower-bone nodes (its tet nodes and bone points) follow the hinge exactly,
 //    x = c + R(theta)(X - c) (msd/skeleton/hinge.hpp);
-//  - every other node is integrated by semi-implicit Euler under the tissue's
-//    internal forces, the tendons, the muscles and gravity; then, where the
+//  - every other node is integrated (semi-implicit Euler by default) under the
+//    tissue's internal forces, the tendons, the muscles and gravity; then, where the
 //    scene names a region behind the knee, skin nodes that entered the other
 //    side's tissue are put back on its surface (msd/contact/self_contact.hpp).
 // The hinge is driven by the torque about its axis of everything acting on
@@ -123,9 +127,13 @@ struct LegModel {
   double joint_damping = 0.0, limit_stiffness = 0.0, passive_lo = 0.0, passive_hi = 0.0;
   std::vector<Tet> tets;  ///< the tissue's tets (the contact test's solids)
   long joint_space_tets = 0;  ///< tets left out because they had nodes on both bones
-  std::optional<SelfContactRegion> knee_contact;
-  std::vector<RigidObstacle> obstacles;  ///< with the nodes each is tested against
+  std::optional<SelfContactRegion> knee_contact;  ///< also tissue.self_contact
+  std::vector<RigidObstacle> obstacles;  ///< with the nodes each is tested against (also tissue.obstacles)
 };
+
+/// The parts of LegModel::tissue (groups, joints, muscles in this order).
+inline constexpr int kFemurGroup = 0, kLowerBoneGroup = 1, kKneeJoint = 0, kFrontMuscleIndex = 0,
+                     kBackMuscleIndex = 1;
 
 struct LegState {
   State tissue;
@@ -146,13 +154,6 @@ struct LegControls {
   std::vector<Vec3> obstacle_offset, obstacle_velocity;
 };
 
-/// What an obstacle did in the last step.
-struct ObstacleContact {
-  int contacts = 0;           ///< nodes found inside and put back on its surface
-  double max_depth = 0.0;     ///< deepest of them, m
-  Vec3 force{Vec3::Zero()};   ///< on the leg: sum of lambda n, lambda = max(0, -f . n) (rigid_obstacle.hpp)
-};
-
 /// Diagnostics of the last step.
 struct LegScratch {
   Scratch tissue;
@@ -162,9 +163,7 @@ struct LegScratch {
   Vec3 joint_reaction{Vec3::Zero()};   ///< force the femur exerts on the lower leg at the hinge, N
   SelfContactReport knee_contact;      ///< skin against skin behind the knee
   std::vector<ObstacleContact> obstacles;
-  // Buffers of the anchored strands' forces (reused every step, no allocation).
-  Points strand_points, strand_forces;
-  std::vector<int> strand_index;
+  Controls controls;  ///< the tissue's controls (a buffer reused every step)
 };
 
 /// Compiles the leg. Throws msd::Error if a bone has no tets or bone points,
@@ -178,8 +177,10 @@ LegModel build_leg_model(const LimbMesh& mesh, const std::vector<TendonStrands>&
 /// between (h = `blend`, m) - the flesh around the knee shares the bend.
 LegState leg_rest_state(const LegModel& model, double angle, double blend = 0.0245);
 
-/// One step of dt. Throws SimulationFailure (when, where) on a non-finite value.
-void step_leg(const LegModel& model, LegState& state, const LegControls& controls, double dt, LegScratch& scratch);
+/// One step of dt: msd::step on the tissue model with `integrator`. Throws
+/// SimulationFailure (when, where) on a non-finite value.
+void step_leg(const LegModel& model, LegState& state, const LegControls& controls, double dt, LegScratch& scratch,
+              Integrator integrator = Integrator::SymplecticEuler);
 
 /// The strand's points (3 x m) at positions x with the knee at `angle`: its
 /// nodes, then its anchor where it has one.

@@ -1,0 +1,33 @@
+// The forces of a model's moving parts besides the tissue (Model::strands and
+// Model::muscles; thesis 5.3, 5.2.7), evaluated by evaluate_forces after the
+// element terms, and where a strand's anchor is.
+//
+//  - A strand through nodes p_0 ... p_{m-1} (and its anchor a, when it has
+//    one) pulls with T = k_t (L - L0) for L > L0 (msd/forces/tendon.hpp); the
+//    force on the anchor, -T u_last, is kept per strand (Scratch::anchor_force)
+//    for the joint that carries it. L0 is Controls::strand_natural_length[s]
+//    when given, else the model's.
+//  - A muscle's units pull with activation * unit_force (times f_L)
+//    (msd/forces/muscle_units.hpp); activation 0 adds nothing.
+#pragma once
+
+#include "msd/model/model.hpp"
+
+namespace msd {
+
+/// Where a point fixed on kinematic group g (at `rest` when the group is at
+/// rest) is: turned by the group's joint, x = c + R(theta) (rest - c), or
+/// translated with the group's first node.
+Vec3 group_point(const Model& model, int group, const Vec3& rest, const Points& x,
+                 const std::vector<HingeState>& joints);
+
+/// The natural length of strand s under `controls`.
+double strand_natural_length(const Model& model, size_t strand, const Controls& controls);
+
+/// Adds the strands' and muscles' forces at positions x to scratch.f and
+/// records scratch.strand_tension and scratch.anchor_force (sized to the
+/// strands; no allocation once sized).
+void add_part_forces(const Model& model, const Points& x, const std::vector<HingeState>& joints,
+                     const Controls& controls, Scratch& scratch);
+
+}  // namespace msd

@@ -1,0 +1,63 @@
+#include "msd/forces/parts.hpp"
+
+#include "msd/forces/muscle_units.hpp"
+#include "msd/forces/tendon.hpp"
+
+namespace msd {
+
+Vec3 group_point(const Model& model, int group, const Vec3& rest, const Points& x,
+                 const std::vector<HingeState>& joints) {
+  const KinematicGroup& g = model.groups[static_cast<size_t>(group)];
+  if (g.joint >= 0) {
+    const Hinge& h = model.joints[static_cast<size_t>(g.joint)].hinge;
+    return h.centre + hinge_rotation(h, joints[static_cast<size_t>(g.joint)].angle) * (rest - h.centre);
+  }
+  if (g.nodes.empty()) return rest;
+  const int first = g.nodes.front();
+  return rest + (Vec3(x.col(first)) - Vec3(model.rest_positions.col(first)));
+}
+
+double strand_natural_length(const Model& model, size_t s, const Controls& c) {
+  return s < c.strand_natural_length.size() ? c.strand_natural_length[s] : model.strands[s].natural_length;
+}
+
+void add_part_forces(const Model& model, const Points& x, const std::vector<HingeState>& joints,
+                     const Controls& c, Scratch& scratch) {
+  Points& f = scratch.f;
+  const size_t ns = model.strands.size();
+  if (scratch.strand_tension.size() != ns) scratch.strand_tension.resize(ns);
+  if (scratch.anchor_force.size() != ns) scratch.anchor_force.resize(ns);
+  for (size_t si = 0; si < ns; ++si) {
+    const Strand& s = model.strands[si];
+    const double l0 = strand_natural_length(model, si, c);
+    scratch.anchor_force[si].setZero();
+    if (s.anchor_group < 0) {
+      scratch.strand_tension[si] = add_tendon_forces(x, s.nodes, l0, s.k_t, f);
+      continue;
+    }
+    // With an anchor: the strand's points (nodes, then anchor) and their
+    // forces in buffers, then onto the nodes.
+    Points& p = scratch.strand_points;
+    Points& fl = scratch.strand_forces;
+    std::vector<int>& idx = scratch.strand_index;
+    const Eigen::Index m = static_cast<Eigen::Index>(s.nodes.size()) + 1;
+    if (p.cols() != m) p.resize(3, m);
+    for (size_t k = 0; k < s.nodes.size(); ++k) p.col(static_cast<Eigen::Index>(k)) = x.col(s.nodes[k]);
+    p.col(m - 1) = group_point(model, s.anchor_group, s.anchor_rest, x, joints);
+    if (idx.size() != static_cast<size_t>(m)) {
+      idx.resize(static_cast<size_t>(m));
+      for (size_t k = 0; k < idx.size(); ++k) idx[k] = static_cast<int>(k);
+    }
+    fl.setZero(3, m);
+    scratch.strand_tension[si] = add_tendon_forces(p, idx, l0, s.k_t, fl);
+    for (size_t k = 0; k < s.nodes.size(); ++k) f.col(s.nodes[k]) += fl.col(static_cast<Eigen::Index>(k));
+    scratch.anchor_force[si] = fl.col(m - 1);
+  }
+  for (size_t mi = 0; mi < model.muscles.size(); ++mi) {
+    const Muscle& mu = model.muscles[mi];
+    const double a = mi < c.activation.size() ? c.activation[mi] : 0.0;
+    if (a > 0.0) add_muscle_forces(x, mu.units, a * mu.unit_force, f, mu.force_length);
+  }
+}
+
+}  // namespace msd
