@@ -145,7 +145,7 @@ bool LiveLeg::step(long n) {
       }
       ++steps_;
       apply_controls(steps_ * s.dt, s.dt);
-      msd::step_leg(leg, state_, leg_controls_, s.dt, scratch_);
+      msd::step_leg(leg, state_, leg_controls_, s.dt, scratch_, s.integrator);
       state_.tissue.t = steps_ * s.dt;
     }
   } catch (const msd::SimulationFailure& e) {

@@ -132,6 +132,11 @@ tbio::Json summary_json(const LegRunSummary& s, const LegScene& scene) {
   j["wall_seconds"] = s.wall_seconds;
   j["wall_per_simulated_second"] = s.wall_per_simulated();
   j["dt"] = scene.dt;
+  j["integrator"] = msd::to_string(scene.integrator);
+  if (scene.integrator == msd::Integrator::BackwardEuler) {
+    j["newton_iterations"] = s.newton_iterations;
+    j["step_cuts"] = s.step_cuts;
+  }
   j["steps"] = s.steps;
   j["frames"] = s.frames;
   j["nodes"] = s.nodes;

@@ -291,7 +291,7 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
         l.engaged = true;
       }
       drive(scene, variant, k * scene.dt, scene.dt, l.controls);
-      msd::step_leg(leg, l.state, l.controls, scene.dt, scratch);
+      msd::step_leg(leg, l.state, l.controls, scene.dt, scratch, scene.integrator);
       l.state.tissue.t = k * scene.dt;  // no drift from summing dt
       l.step = k;
       sum.steps = k;
@@ -314,6 +314,8 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
     sum.failure = std::string(e.what()) + " at t = " + tbio::json_number(sum.steps * scene.dt) + " s";
   }
   sum.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  sum.newton_iterations = scratch.tissue.newton_iterations;
+  sum.step_cuts = scratch.tissue.step_cuts;
   sum.simulated = sum.steps * scene.dt;
   sum.frames = static_cast<long>(l.frame_times.size());
   sum.trajectory = l.trajectory;

@@ -139,6 +139,15 @@ void read_run(const Fields& f, const std::string& path, LegScene& s) {
   o.nonlinear_threshold = number(f, "nonlinear_threshold");
   o.threads = static_cast<int>(tbio::read_integer(f, leg_scene_parameter("threads")));
   o.reference_forces = tbio::read_choice(f, leg_scene_parameter("forces")) == "reference";
+  s.integrator = msd::parse_integrator(tbio::read_choice(f, leg_scene_parameter("integrator")));
+  if (const auto n = f.optional_section("newton")) {
+    if (s.integrator != msd::Integrator::BackwardEuler)
+      throw msd::Error(f.where("newton") + "only meaningful with 'integrator: backward_euler'");
+    n->only({"tolerance", "max_iterations", "max_step_cuts"});
+    o.newton.tolerance = number(*n, "newton.tolerance");
+    o.newton.max_iterations = static_cast<int>(tbio::read_integer(*n, leg_scene_parameter("newton.max_iterations")));
+    o.newton.max_step_cuts = static_cast<int>(tbio::read_integer(*n, leg_scene_parameter("newton.max_step_cuts")));
+  }
 }
 
 // knee: the hinge, its range, how it is driven, its passive structures.
@@ -322,7 +331,7 @@ LegScene read_leg_scene(const std::string& path) {
   const YAML::Node root = tbio::parse_yaml(text, path);
   if (!root || !root.IsMap()) throw msd::Error(path + ": the scene must be a YAML mapping");
   const Fields f(root, "", path);
-  f.only({"name", "description", "geometry", "mesh_pull", "duration", "dt", "output_interval", "gravity", "terms",
+  f.only({"name", "description", "geometry", "mesh_pull", "duration", "dt", "integrator", "newton", "output_interval", "gravity", "terms",
           "nonlinear_threshold", "threads", "forces", "materials", "knee", "tendons", "muscles", "contact", "analysis", "variants",
           "outputs"});
   LegScene s;

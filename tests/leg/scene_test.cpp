@@ -214,3 +214,29 @@ TEST(LegScene, ABlownUpRunSaysWhenWhereAndWhyAndKeepsItsFrames) {
   EXPECT_NE(summary.find("\"status\": \"failed\""), std::string::npos);
   EXPECT_NE(summary.find("\"failure\""), std::string::npos);
 }
+
+TEST(LegScene, TheIntegratorAndItsNewtonSettingsAreReadAndMisuseIsRefused) {
+  const std::string dir = (fs::path(TB_TEST_OUTPUT_DIR) / "leg_scene_test").string();
+  EXPECT_EQ(leg::read_leg_scene(scenes() + "drop.yaml").integrator, msd::Integrator::SymplecticEuler);  // the default
+  std::string f = variant_of("drop", "dt: 2.0e-4",
+                             "dt: 2.0e-4\nintegrator: backward_euler\nnewton: {tolerance: 1.0e-6, max_iterations: 12}",
+                             dir + "/implicit.yaml");
+  const leg::LegScene s = leg::read_leg_scene(f);
+  EXPECT_EQ(s.integrator, msd::Integrator::BackwardEuler);
+  EXPECT_DOUBLE_EQ(s.model.newton.tolerance, 1e-6);
+  EXPECT_EQ(s.model.newton.max_iterations, 12);
+  EXPECT_EQ(s.model.newton.max_step_cuts, msd::NewtonOptions{}.max_step_cuts);
+  // Newton settings without the implicit integrator, an unknown integrator, a bad tolerance.
+  f = variant_of("drop", "dt: 2.0e-4", "dt: 2.0e-4\nnewton: {tolerance: 1.0e-6}", dir + "/newton_explicit.yaml");
+  std::string e = error_of(f);
+  EXPECT_NE(e.find("newton_explicit.yaml:"), std::string::npos) << e;
+  EXPECT_NE(e.find("only meaningful with 'integrator: backward_euler'"), std::string::npos) << e;
+  f = variant_of("drop", "dt: 2.0e-4", "dt: 2.0e-4\nintegrator: rk4", dir + "/rk4.yaml");
+  e = error_of(f);
+  EXPECT_NE(e.find("integrator"), std::string::npos) << e;
+  EXPECT_NE(e.find("rk4"), std::string::npos) << e;
+  f = variant_of("drop", "dt: 2.0e-4", "dt: 2.0e-4\nintegrator: backward_euler\nnewton: {tolerance: 2}",
+                 dir + "/tolerance.yaml");
+  e = error_of(f);
+  EXPECT_NE(e.find("newton.tolerance"), std::string::npos) << e;
+}

@@ -37,6 +37,7 @@ struct LegScene {
   std::string geometry;  ///< mesh scene (YAML)
   bool mesh_pull = true; ///< false: the geometry's pull areas are ignored
   double duration = 0.0, dt = 0.0, output_interval = 0.04;
+  msd::Integrator integrator = msd::Integrator::SymplecticEuler;
   msd::LegModelOptions model;
   double initial_angle = 0.0, initial_velocity = 0.0;  ///< rad, rad/s
   msd::Keyframes<double> knee_angle;                        ///< rad; empty: dynamic knee

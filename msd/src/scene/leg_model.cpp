@@ -94,6 +94,7 @@ Model tissue_model(const TetMesh& tissue_mesh, const LegModelOptions& o) {
   mo.nonlinear_threshold = o.nonlinear_threshold;
   mo.threads = o.threads;
   mo.reference_forces = o.reference_forces;
+  mo.newton = o.newton;
   mo.gravity = o.gravity;
   // Region labels 0..4: passive, front and back muscle, the bones (their tets
   // move rigidly; any material will do, passive tissue's is used).

@@ -361,3 +361,34 @@ TEST(LegModel, AnAddedJointTorqueTurnsTheKneeAtTorqueOverInertia) {
   EXPECT_EQ(back.knee.angle, 0.0);
   EXPECT_EQ(back.knee.velocity, 0.0);
 }
+
+TEST(LegModel, RealTendonStiffnessRunsWithBackwardEulerAtAStepWhereSymplecticEulerBlowsUp) {
+  // Tendons at the linear modulus of real tendon, about 1.2 GPa (issue 18;
+  // Maganaris & Paul 1999, human tendon in vivo): k_t = E A / L0 is
+  // about 2.4e5 N/m on a strand of 10 cm, so on a node of about 15 g
+  // symplectic Euler is stable only below dt = 2 sqrt(m / k), about 0.5 ms.
+  // The thesis' switch of the non-linear terms (threshold 0.7) makes the forces
+  // jump, which Newton's method cannot follow: the terms act everywhere here.
+  msd::LegModelOptions o = options();
+  o.tendon_modulus = 1.2e9;
+  o.nonlinear_threshold = 0.0;
+  const msd::LegModel leg = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  msd::LegControls c;
+  c.tendon_length_scale = {0.99, 0.99, 1.0, 1.0};  // the back tendons pre-tensioned by 1 %
+  c.back_activation = 0.5;
+  const double dt = 1e-3;
+  msd::LegState be = msd::leg_rest_state(leg, 0.0);
+  msd::LegScratch s1;
+  for (int k = 0; k < 20; ++k) msd::step_leg(leg, be, c, dt, s1, msd::Integrator::BackwardEuler);
+  EXPECT_TRUE(be.tissue.x.allFinite());
+  EXPECT_GT(s1.tendon_tension[0], 0.0);
+  // Every strand's strain stays below 1.5 %: stiff tendons barely stretch.
+  for (size_t k = 0; k < leg.strands.size(); ++k) {
+    const double l0 = leg.strands[k].natural_length * (leg.strands[k].tendon < 2 ? 0.99 : 1.0);
+    EXPECT_LT(msd::leg_strand_length(leg, leg.strands[k], be.tissue.x, be.knee.angle) / l0 - 1.0, 0.015) << k;
+  }
+  EXPECT_GT(s1.tissue.newton_iterations, 0);
+  msd::LegState se = msd::leg_rest_state(leg, 0.0);
+  msd::LegScratch s2;
+  EXPECT_THROW(for (int k = 0; k < 20; ++k) msd::step_leg(leg, se, c, dt, s2), msd::SimulationFailure);
+}

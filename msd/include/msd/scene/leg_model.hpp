@@ -48,6 +48,7 @@ struct LegModelOptions {
   double nonlinear_threshold = 0.7;  ///< thesis 5.8
   int threads = 1;                   ///< force-evaluation threads (results identical for every count)
   bool reference_forces = false;     ///< the per-tet reference loop instead of the engine (Model::reference_forces)
+  NewtonOptions newton;              ///< the implicit integrator's Newton iterations (Model::newton)
   Vec3 gravity{0.0, 0.0, -9.81};     ///< m/s^2 in the leg's frame
   Vec3 knee_centre{Vec3::Zero()};
   Vec3 knee_axis{Vec3::UnitY()};     ///< positive rotation = flexion
