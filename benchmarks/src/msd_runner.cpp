@@ -107,7 +107,7 @@ MsdProblem compile_msd(const Spec& spec) {
   o.gravity = l.gravity;
   o.nonlinear_threshold = ms.nonlinear_threshold;
   o.threads = ms.threads;
-  o.newton = {ms.newton_tolerance, ms.newton_max_iterations, ms.newton_max_step_cuts};
+  o.newton = {ms.newton_tolerance, ms.newton_max_iterations, ms.newton_max_step_cuts, ms.newton_reuse_factorization};
   o.reference_forces = ms.forces == "reference";
   o.region_materials.assign(1, make_material(spec));
   const msd::TetMesh& mesh = p.sample.mesh;
@@ -445,6 +445,7 @@ void finish_msd_file(ResultsWriter& out, RunSummary& s, const Spec& spec, const 
     if (p.stepping.integrator == msd::Integrator::BackwardEuler && !p.cvode) {
       out.set_timing_detail("newton_iterations", static_cast<double>(s.newton_iterations));
       out.set_timing_detail("step_cuts", static_cast<double>(s.step_cuts));
+      out.set_timing_detail("factorizations", static_cast<double>(s.factorizations));
     }
     out.set_timing_detail("cpu_seconds", static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC);
     // Memory of the run: the process peak and the peak above the resident size
@@ -549,6 +550,7 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
   if (s.complete) s.steps = stats.steps;
   s.newton_iterations = stats.newton_iterations;
   s.step_cuts = stats.step_cuts;
+  s.factorizations = stats.factorizations;
   finish_msd_file(out, s, spec, p, times, tip, rss_start, cpu_start);
   std::error_code ignore;
   // A completed run's checkpoint (written now, or resumed from) is of no more use.

@@ -136,6 +136,7 @@ tbio::Json summary_json(const LegRunSummary& s, const LegScene& scene) {
   if (scene.integrator == msd::Integrator::BackwardEuler) {
     j["newton_iterations"] = s.newton_iterations;
     j["step_cuts"] = s.step_cuts;
+    j["factorizations"] = s.factorizations;
   }
   j["steps"] = s.steps;
   j["frames"] = s.frames;

@@ -316,6 +316,7 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
   sum.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   sum.newton_iterations = scratch.tissue.newton_iterations;
   sum.step_cuts = scratch.tissue.step_cuts;
+  sum.factorizations = scratch.tissue.factorizations;
   sum.simulated = sum.steps * scene.dt;
   sum.frames = static_cast<long>(l.frame_times.size());
   sum.trajectory = l.trajectory;

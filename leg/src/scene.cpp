@@ -143,10 +143,11 @@ void read_run(const Fields& f, const std::string& path, LegScene& s) {
   if (const auto n = f.optional_section("newton")) {
     if (s.integrator != msd::Integrator::BackwardEuler)
       throw msd::Error(f.where("newton") + "only meaningful with 'integrator: backward_euler'");
-    n->only({"tolerance", "max_iterations", "max_step_cuts"});
+    n->only({"tolerance", "max_iterations", "max_step_cuts", "reuse_factorization"});
     o.newton.tolerance = number(*n, "newton.tolerance");
     o.newton.max_iterations = static_cast<int>(tbio::read_integer(*n, leg_scene_parameter("newton.max_iterations")));
     o.newton.max_step_cuts = static_cast<int>(tbio::read_integer(*n, leg_scene_parameter("newton.max_step_cuts")));
+    o.newton.reuse_factorization = tbio::read_flag(*n, leg_scene_parameter("newton.reuse_factorization"));
   }
 }
 

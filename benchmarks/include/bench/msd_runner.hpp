@@ -79,6 +79,7 @@ struct RunSummary {
   std::vector<std::pair<std::string, double>> highlights;
   long steps = 0;
   long newton_iterations = 0, step_cuts = 0;  ///< backward Euler only
+  long factorizations = 0;                   ///< backward Euler only: LU factorisations
   double wall_seconds = 0.0;
   double simulated_seconds = 0.0;
   double min_strain = 0.0, max_strain = 0.0;

@@ -72,6 +72,7 @@ struct MsdSpec {
   /// backward_euler: Newton's relative tolerance, iterations, step halvings (msd::NewtonOptions)
   double newton_tolerance = 1e-8;
   int newton_max_iterations = 20, newton_max_step_cuts = 6;
+  bool newton_reuse_factorization = true;  ///< modified Newton (msd::NewtonOptions)
 };
 
 /// Settings of the finite-element reference solver.

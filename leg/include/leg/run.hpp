@@ -21,7 +21,7 @@ struct LegRunSummary {
   bool kept = true;     ///< false when not even a failed leg.h5 could be written (a full disk)
   double simulated = 0.0, wall_seconds = 0.0;
   long steps = 0, frames = 0, nodes = 0, tets = 0;
-  long newton_iterations = 0, step_cuts = 0;  ///< backward Euler's, over the run (since a resume)
+  long newton_iterations = 0, step_cuts = 0, factorizations = 0;  ///< backward Euler's, over the run (since a resume)
   /// Scalar results by name (knee angles in degrees, areas in m^2, ...).
   std::map<std::string, double> values;
   /// Knee angle (deg) every 0.2 s: (time, angle).

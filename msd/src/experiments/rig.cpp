@@ -126,6 +126,7 @@ RunStats run_experiment(const Model& model, State state, double end_time, double
     ++stats.steps;
     stats.newton_iterations = scratch.newton_iterations;
     stats.step_cuts = scratch.step_cuts;
+    stats.factorizations = scratch.factorizations;
   }
   stats.simulated_seconds = state.t;
   return stats;

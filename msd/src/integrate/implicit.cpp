@@ -228,6 +228,9 @@ struct ImplicitWorkspace {
   Points x1, v1, v_trial, r, load;
   Eigen::VectorXd rhs, delta;
   State at;  // the iterate handed to evaluate_forces
+  Points r_keep;  // the residual at the iterate while a chord step is tried
+  bool factored = false;  // lu holds a factorisation (of an earlier iterate's Jacobian)
+  double factor_dt = 0.0; // the step it was made for
   std::vector<HingeState> joints_end;  // the joints at the step's end
 };
 
@@ -240,6 +243,7 @@ ImplicitWorkspace& workspace(const Model& model, Scratch& scratch) {
     w.layout = make_system_layout(model);
     w.A = w.layout.pattern;
     w.lu.analyzePattern(w.A);
+    w.factored = false;
     w.nodes = model.num_nodes();
     w.edges = model.plan.num_edges();
     w.model = &model;
@@ -336,14 +340,38 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
       return out;
     }
     ++out.iterations;
+    w.rhs = -Eigen::Map<const Eigen::VectorXd>(w.r.data(), w.r.size());
+    // Modified Newton: a factorisation kept from an earlier iterate or step
+    // (same dt) gives a chord step, kept when it at least halves |G|;
+    // otherwise (or without one) the Jacobian is made afresh here.
+    if (model.newton.reuse_factorization && w.factored && w.factor_dt == dt) {
+      w.delta = w.lu.solve(w.rhs);
+      w.v_trial = w.v1;
+      w.r_keep = w.r;
+      w.v1 = w.v_trial + Eigen::Map<const Points>(w.delta.data(), 3, model.num_nodes());
+      positions_from_velocities(model, s, c, joints, dt, w);
+      double scale = 0.0, trial_l2 = 0.0;
+      const double trial = residual(model, s, c, joints, time, dt, w, scratch, scale, trial_l2);
+      if (trial_l2 <= 0.5 * l2) {
+        out.residual = trial;
+        out.scale = scale;
+        l2 = trial_l2;
+        continue;
+      }
+      w.v1 = w.v_trial;  // back to the iterate, for a fresh Jacobian there
+      w.r = w.r_keep;
+      positions_from_velocities(model, s, c, joints, dt, w);
+    }
     assemble_system(model, w.layout, w.x1, w.v1, joints, c, 1.0, -dt, -dt * dt, w.A);
     fix_prescribed(w.layout, w.A);
     w.lu.factorize(w.A);
-    if (w.lu.info() != Eigen::Success) {
+    ++scratch.factorizations;
+    w.factored = w.lu.info() == Eigen::Success;
+    w.factor_dt = dt;
+    if (!w.factored) {
       out.why = "met a singular matrix";
       return out;
     }
-    w.rhs = -Eigen::Map<const Eigen::VectorXd>(w.r.data(), w.r.size());
     w.delta = w.lu.solve(w.rhs);
     // Backtracking on |G| (the exact Newton direction descends it): halve the
     // update until |G| decreases, at most 10 times.

@@ -69,6 +69,7 @@ struct RunStats {
   double simulated_seconds = 0.0;
   long newton_iterations = 0;  ///< backward Euler: Newton iterations over the run
   long step_cuts = 0;          ///< backward Euler: steps halved because Newton failed
+  long factorizations = 0;     ///< backward Euler: LU factorisations (fewer than iterations with reuse)
 };
 
 struct ExperimentHooks {

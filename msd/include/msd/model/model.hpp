@@ -27,10 +27,17 @@ namespace msd {
 /// `tolerance` times the largest term in the balance (momentum, internal and
 /// external impulse); a step that has not after `max_iterations` is retried
 /// as two half steps, at most `max_step_cuts` times over, then fails.
+///
+/// With `reuse_factorization` (modified Newton) an iteration first tries the
+/// factorisation of an earlier Jacobian - from an earlier iterate or step of
+/// the same dt - and keeps that chord step when it at least halves |G|;
+/// otherwise it factorises the Jacobian at the iterate (full Newton with a
+/// line search). The converged steps meet the same tolerance either way.
 struct NewtonOptions {
   double tolerance = 1e-8;
   int max_iterations = 20;
   int max_step_cuts = 6;
+  bool reuse_factorization = true;
 };
 
 /// Force terms; a model evaluates only those it was built with.
@@ -256,6 +263,7 @@ struct Scratch {
   int last_newton_iterations = 0;  ///< of the last implicit step
   int last_step_cuts = 0;          ///< times the last implicit step was halved
   long step_cuts = 0;              ///< halvings of the implicit steps so far
+  long factorizations = 0;         ///< LU factorisations of the implicit steps so far
   // The moving parts (Model::strands ... self_contact), per evaluation / step:
   std::vector<double> strand_tension;  ///< per strand, N (>= 0)
   std::vector<Vec3> anchor_force;      ///< per strand: the force on its anchor, N (zero without one)
