@@ -11,17 +11,23 @@
 
 namespace msd {
 
-AabbTree::AabbTree(const Points& lo, const Points& hi) : lo_(lo), hi_(hi) {
+AabbTree::AabbTree(const Points& lo, const Points& hi) { rebuild(lo, hi); }
+
+void AabbTree::rebuild(const Points& lo, const Points& hi) {
+  lo_ = lo;
+  hi_ = hi;
   const int n = static_cast<int>(lo.cols());
   order_.resize(static_cast<size_t>(n));
   std::iota(order_.begin(), order_.end(), 0);
+  nodes_.clear();
   if (n == 0) return;
-  const Points centre = 0.5 * (lo + hi);
+  centre_ = 0.5 * (lo + hi);
   nodes_.reserve(static_cast<size_t>(2 * n));
-  build(0, n, centre);
+  build(0, n);
 }
 
-int AabbTree::build(int begin, int end, const Points& centre) {
+int AabbTree::build(int begin, int end) {
+  const Points& centre = centre_;
   Node node;
   node.lo = lo_.col(order_[static_cast<size_t>(begin)]);
   node.hi = hi_.col(order_[static_cast<size_t>(begin)]);
@@ -39,8 +45,8 @@ int AabbTree::build(int begin, int end, const Points& centre) {
     const int mid = (begin + end) / 2;
     std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
                      [&](int a, int b) { return centre(axis, a) < centre(axis, b); });
-    const int left = build(begin, mid, centre);
-    const int right = build(mid, end, centre);
+    const int left = build(begin, mid);
+    const int right = build(mid, end);
     nodes_[static_cast<size_t>(index)].left = left;
     nodes_[static_cast<size_t>(index)].right = right;
   }
@@ -122,13 +128,24 @@ bool inside_tet(const Points& x, const Tet& t, const Vec3& p) {
 
 SelfContactReport resolve_self_contact(const SelfContactRegion& r, const std::vector<Tet>& tets, Points& x,
                                        Points& v, const std::vector<char>& held) {
+  SelfContactWorkspace w;
+  return resolve_self_contact(r, tets, x, v, held, w);
+}
+
+SelfContactReport resolve_self_contact(const SelfContactRegion& r, const std::vector<Tet>& tets, Points& x,
+                                       Points& v, const std::vector<char>& held, SelfContactWorkspace& buffers) {
   SelfContactReport report;
-  std::vector<int> candidates;
+  std::vector<int>& candidates = buffers.candidates;
   for (int s = 0; s < 2; ++s) {
     const int other = 1 - s;
     const std::vector<int>& other_tets = r.tets[other];
     if (other_tets.empty()) continue;
-    Points lo(3, static_cast<Eigen::Index>(other_tets.size())), hi(3, static_cast<Eigen::Index>(other_tets.size()));
+    Points& lo = buffers.lo[s];
+    Points& hi = buffers.hi[s];
+    if (lo.cols() != static_cast<Eigen::Index>(other_tets.size())) {
+      lo.resize(3, static_cast<Eigen::Index>(other_tets.size()));
+      hi.resize(3, static_cast<Eigen::Index>(other_tets.size()));
+    }
     for (size_t k = 0; k < other_tets.size(); ++k) {
       const Tet& t = tets[static_cast<size_t>(other_tets[k])];
       Vec3 l = x.col(t[0]), h = x.col(t[0]);
@@ -139,7 +156,8 @@ SelfContactReport resolve_self_contact(const SelfContactRegion& r, const std::ve
       lo.col(static_cast<Eigen::Index>(k)) = l;
       hi.col(static_cast<Eigen::Index>(k)) = h;
     }
-    const AabbTree tree(lo, hi);
+    AabbTree& tree = buffers.tree[s];
+    tree.rebuild(lo, hi);
     for (size_t ni = 0; ni < r.nodes[s].size(); ++ni) {
       const int node = r.nodes[s][ni];
       if (!held.empty() && held[static_cast<size_t>(node)]) continue;

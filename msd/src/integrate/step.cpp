@@ -97,9 +97,12 @@ void apply_constraints(const Model& model, const Controls& controls, State& stat
 void apply_constraints(const Model& model, const Controls& controls, State& state, Scratch* report) {
   apply_group_constraints(model, controls, state.joints, state.x, state.v);
   if (model.self_contact) {
-    const SelfContactReport r = resolve_self_contact(*model.self_contact, model.contact_tets, state.x, state.v,
-                                                     model.kinematic);
-    if (report) report->self_contact = r;
+    if (report) {
+      report->self_contact = resolve_self_contact(*model.self_contact, model.contact_tets, state.x, state.v,
+                                                  model.kinematic, report->contact_buffers);
+    } else {
+      resolve_self_contact(*model.self_contact, model.contact_tets, state.x, state.v, model.kinematic);
+    }
   }
   if (report && report->obstacles.size() != model.obstacles.size()) report->obstacles.resize(model.obstacles.size());
   const bool gravity = model.terms & kGravity;

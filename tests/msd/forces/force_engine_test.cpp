@@ -5,11 +5,14 @@
 
 #include "msd/forces/element_forces.hpp"
 #include "msd/integrate/step.hpp"
+#include "msd/geometry/leg_generator.hpp"
 #include "msd/mesh/cubic_grid.hpp"
+#include "msd/scene/leg_model.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <memory>
@@ -209,4 +212,48 @@ TEST(ForceEngine, AStepAllocatesNothingAfterTheFirst) {
       EXPECT_EQ(g_allocations.load() - before, 0) << msd::to_string(integ);
     }
   }
+}
+
+TEST(ForceEngine, TheLegsStepAllocatesNothingAfterTheFirst) {
+  // The shipped leg with every moving part at work: anchored, pre-tensioned
+  // tendons, both muscles active, the knee dynamic, skin against skin behind
+  // the knee and a rigid plane under the sole.
+  msd::LimbMeshOptions mo;
+  mo.spacing = 0.0245;
+  const msd::MeshedLeg meshed = msd::mesh_leg(std::string(TISSUEBENCH_DATA_DIR) + "/leg", mo);
+  msd::LegModelOptions o;
+  o.passive.density = 920;
+  o.passive.mode = msd::ConstantsMode::Physical;
+  o.passive.youngs_modulus = 2990;
+  o.passive.damping_time = 4.2e-3;
+  o.muscle = o.passive;
+  o.knee_centre = msd::Vec3(0, 0, 0.50046);
+  o.tendon_insertions.assign(meshed.tendons.size(), std::nullopt);
+  for (size_t t = 0; t < meshed.tendons.size(); ++t) {
+    const auto& strand = meshed.tendons[t].strands.front();
+    o.tendon_insertions[t] = meshed.mesh.mesh.nodes.col(strand.back());  // at the route's bone node
+  }
+  o.knee_contact_box = std::make_pair(msd::Vec3(-0.15, -0.12, 0.38), msd::Vec3(0.0, 0.12, 0.62));
+  msd::LegModelOptions::Obstacle floor;
+  floor.object.name = "floor";
+  floor.object.shape = msd::ObstacleShape::Plane;
+  // 1 mm below the sole: every free surface node is tested, none pushed.
+  floor.object.plane.point = msd::Vec3(0, 0, meshed.mesh.mesh.nodes.row(2).minCoeff() - 0.001);
+  floor.object.plane.normal = msd::Vec3::UnitZ();
+  o.obstacles = {floor};
+  const msd::LegModel leg = msd::build_leg_model(meshed.mesh, meshed.tendons, o);
+  ASSERT_TRUE(leg.tissue.self_contact.has_value());
+  ASSERT_TRUE(std::any_of(leg.strands.begin(), leg.strands.end(), [](const msd::LegStrand& s) { return s.anchored; }));
+  msd::LegState s = msd::leg_rest_state(leg, 0.3);
+  msd::LegControls c;
+  c.tendon_length_scale = {0.95, 0.95, 0.95, 0.95};
+  c.front_activation = 0.3;
+  c.back_activation = 0.6;
+  c.joint_torque = 1.0;
+  msd::LegScratch scratch;
+  msd::step_leg(leg, s, c, 1e-4, scratch);  // sizes the buffers
+  const long before = g_allocations.load();
+  for (int k = 0; k < 20; ++k) msd::step_leg(leg, s, c, 1e-4, scratch);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_GT(scratch.tendon_tension[0], 0.0);
 }

@@ -30,6 +30,9 @@ class AabbTree {
   AabbTree() = default;
   /// lo, hi: 3 x B, box b = [lo.col(b), hi.col(b)].
   AabbTree(const Points& lo, const Points& hi);
+  /// Rebuilds over new boxes, reusing the storage (no allocation once it has
+  /// held as many boxes).
+  void rebuild(const Points& lo, const Points& hi);
   /// Indices of the boxes containing p (closed boxes), in no particular order.
   void query(const Vec3& p, std::vector<int>& out) const;
 
@@ -39,10 +42,10 @@ class AabbTree {
     int left = -1, right = -1;  ///< children, or -1 at a leaf
     int begin = 0, end = 0;     ///< leaf: range in order_
   };
-  int build(int begin, int end, const Points& centre);
+  int build(int begin, int end);
   std::vector<Node> nodes_;
   std::vector<int> order_;
-  Points lo_, hi_;
+  Points lo_, hi_, centre_;
 };
 
 struct SelfContactRegion {
@@ -84,5 +87,16 @@ struct SelfContactReport {
 /// every node may move).
 SelfContactReport resolve_self_contact(const SelfContactRegion& region, const std::vector<Tet>& tets, Points& x,
                                        Points& v, const std::vector<char>& held = {});
+
+/// Buffers of resolve_self_contact, reused between calls.
+struct SelfContactWorkspace {
+  Points lo[2], hi[2];  ///< per side: the other side's tets' boxes
+  AabbTree tree[2];
+  std::vector<int> candidates;
+};
+
+/// The same with its buffers in `w` (no allocation once they are sized).
+SelfContactReport resolve_self_contact(const SelfContactRegion& region, const std::vector<Tet>& tets, Points& x,
+                                       Points& v, const std::vector<char>& held, SelfContactWorkspace& w);
 
 }  // namespace msd

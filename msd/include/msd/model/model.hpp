@@ -269,6 +269,7 @@ struct Scratch {
   std::vector<Vec3> anchor_force;      ///< per strand: the force on its anchor, N (zero without one)
   std::vector<JointReport> joints;     ///< per joint
   SelfContactReport self_contact;      ///< skin against skin
+  SelfContactWorkspace contact_buffers;  ///< its buffers
   std::vector<ObstacleContact> obstacles;  ///< per obstacle
   std::vector<HingeState> joints_before;   ///< the joints at the step's start (buffer)
   Points strand_points, strand_forces;     ///< an anchored strand's points and forces (buffers)
