@@ -220,6 +220,7 @@ def main(d):
         s = load(os.path.join(d, p))
         stability.append({"spec": s["spec"], "dt": s["dt_search"], "extremes": [{
             "case": e["case"], "description": e["description"], "terms": e["terms"], "dt": num(e["dt"], 3),
+            "integrator": e.get("integrator", "-"),
             "finite": "yes" if e["finite"] else "NO", "failure_time": num(e["failure_time"], 3),
             "inverted": e["max_inverted"], "volume": num(e["volume_error"], 3)} for e in s["extremes"]]})
     convergence = [load(os.path.join(d, p)) for p in m.get("convergence", [])]

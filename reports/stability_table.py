@@ -22,12 +22,12 @@ def main(path):
                                                     g(d["smallest_unstable_dt"]), d["trials"],
                                                     d["reason"].split(" at t =")[0][:70]))
     if s["extremes"]:
-        print("\n| case | terms | dt / s | finite | failed at t / s | inverted max / end | max \\|V/V0 − 1\\| | "
-              "load range / Pa | failure |")
-        print("|---|---|---:|---|---:|---:|---:|---|---|")
+        print("\n| case | integrator | terms | dt / s | finite | failed at t / s | inverted max / end | "
+              "max \\|V/V0 − 1\\| | load range / Pa | failure |")
+        print("|---|---|---|---:|---|---:|---:|---:|---|---|")
         for r in s["extremes"]:
-            print("| %s | %s | %s | %s | %s | %d / %d | %.3f | %s … %s | %s |" % (
-                r["case"], r["terms"], g(r["dt"]), "yes" if r["finite"] else "**no**", g(r["failure_time"]),
+            print("| %s | %s | %s | %s | %s | %s | %d / %d | %.3f | %s … %s | %s |" % (
+                r["case"], r.get("integrator", "-"), r["terms"], g(r["dt"]), "yes" if r["finite"] else "**no**", g(r["failure_time"]),
                 r["max_inverted"], r["final_inverted"], r["volume_error"], g(r["min_load"], "%.3g"),
                 g(r["max_load"], "%.3g"), r["failure"].split(" (")[0].split(" at t =")[0][:60]))
 

@@ -173,18 +173,31 @@ std::vector<ExtremeRow> run_extremes(const Spec& spec, const std::vector<std::st
       {"impact_10m/s", "platen at 10 m/s to eps -0.5, held to 50 ms", {{0, 0}, {impact_end, -0.5}, {0.05, -0.5}}},
   };
   std::vector<ExtremeRow> rows;
+  // The explicit rows: each term set with the spec's integrator. The implicit
+  // rows: backward Euler with the full model (every term), at the step the
+  // case's output needs (its duration / 200) however stiff the case is.
+  struct Run {
+    std::string integrator, terms;
+  };
+  std::vector<Run> runs;
+  for (const auto& terms : term_sets) runs.push_back({spec.msd->integrator, terms});
+  if (spec.msd->integrator != "backward_euler") runs.push_back({"backward_euler", "all"});
   for (const Case& k : cases)
-    for (const auto& terms : term_sets) {
+    for (const Run& run : runs) {
+      const std::string& terms = run.terms;
+      const bool implicit = run.integrator == "backward_euler";
+      const double end = k.path.back().first;
       // The case's natural step: the spec's dt, scaled as the explicit limit
-      // scales with the stiffness (sqrt of the modulus or volume-factor ratio).
+      // scales with the stiffness (sqrt of the modulus or volume-factor ratio);
+      // for backward Euler, the output's.
       double natural = spec.msd->dt;
       if (k.youngs_modulus > 0 && E > 0) natural *= std::sqrt(E / k.youngs_modulus);
       if (k.volume_factor > 0 && spec.msd->volume_factor > 0)
         natural *= std::min(1.0, std::sqrt(spec.msd->volume_factor / k.volume_factor));
+      if (implicit) natural = end / 200.0;
       // Tried in turn until a run stays finite: the natural step, then 1/4 and 1/16 of it.
       for (double factor : {1.0, 0.25, 0.0625}) {
         const double dt = natural * factor;
-        const double end = k.path.back().first;
         const Spec s = spec_variant(spec, [&](YAML::Node& n) {
           YAML::Node path(YAML::NodeType::Sequence);
           for (const auto& [t, e] : k.path) {
@@ -196,6 +209,7 @@ std::vector<ExtremeRow> run_extremes(const Spec& spec, const std::vector<std::st
           }
           n["loading"]["path"] = path;
           n["msd"]["terms"] = term_set(terms);
+          n["msd"]["integrator"] = run.integrator;
           n["msd"]["dt"] = dt;
           if (k.volume_factor >= 0) n["msd"]["volume_factor"] = k.volume_factor;
           if (k.youngs_modulus > 0) n["material"]["youngs_modulus"] = k.youngs_modulus;
@@ -204,9 +218,9 @@ std::vector<ExtremeRow> run_extremes(const Spec& spec, const std::vector<std::st
           n["output"]["interval"] = std::max(dt, end / 200.0);
           if (n["output"]["fields_interval"]) n["output"].remove("fields_interval");
         });
-        ExtremeRow r{k.name, k.description, terms, dt, run_trial(s)};
+        ExtremeRow r{k.name, k.description, terms, run.integrator, dt, run_trial(s)};
         if (log)
-          log("  " + k.name + " / " + terms + " dt " + json_number(dt, 3) + ": " +
+          log("  " + k.name + " / " + run.integrator + " / " + terms + " dt " + json_number(dt, 3) + ": " +
               (r.outcome.finite ? "finite" : "FAILED at t = " + json_number(r.outcome.failure_time, 4) + " s") + ", " +
               json_number(r.outcome.wall_seconds, 3) + " s");
         rows.push_back(r);
@@ -235,13 +249,13 @@ std::string format_dt_searches(const std::vector<DtSearch>& rows) {
 std::string format_extremes(const std::vector<ExtremeRow>& rows) {
   std::ostringstream s;
   char line[600];
-  std::snprintf(line, sizeof line, "%-20s %-16s %10s %-8s %10s %8s %8s %8s %10s %10s %s\n", "case", "terms", "dt/s",
-                "finite", "fail t/s", "inv max", "inv end", "|dV|max", "load min", "load max", "failure");
+  std::snprintf(line, sizeof line, "%-20s %-16s %-16s %10s %-8s %10s %8s %8s %8s %10s %10s %s\n", "case", "integrator",
+                "terms", "dt/s", "finite", "fail t/s", "inv max", "inv end", "|dV|max", "load min", "load max", "failure");
   s << line;
   for (const auto& r : rows) {
     const TrialOutcome& o = r.outcome;
-    std::snprintf(line, sizeof line, "%-20s %-16s %10.3g %-8s %10s %8d %8d %8.3f %10.4g %10.4g %s\n", r.name.c_str(),
-                  r.terms.c_str(), r.dt, o.finite ? "yes" : "NO", o.finite ? "-" : json_number(o.failure_time, 4).c_str(),
+    std::snprintf(line, sizeof line, "%-20s %-16s %-16s %10.3g %-8s %10s %8d %8d %8.3f %10.4g %10.4g %s\n",
+                  r.name.c_str(), r.integrator.c_str(), r.terms.c_str(), r.dt, o.finite ? "yes" : "NO", o.finite ? "-" : json_number(o.failure_time, 4).c_str(),
                   o.max_inverted, o.final_inverted, o.volume_error(), o.min_load, o.max_load,
                   o.failure.substr(0, 90).c_str());
     s << line;
@@ -267,6 +281,7 @@ void write_stability_json(const std::string& spec, const std::vector<DtSearch>& 
     extremes.push_back({{"case", r.name},
                         {"description", r.description},
                         {"terms", r.terms},
+                        {"integrator", r.integrator},
                         {"dt", r.dt},
                         {"finite", o.finite},
                         {"failure", o.failure},

@@ -71,6 +71,7 @@ DtSearch search_dt(const Spec& spec, const std::string& integrator, const std::s
 
 struct ExtremeRow {
   std::string name, description, terms;
+  std::string integrator;  ///< the spec's explicit one, or backward_euler
   double dt = 0.0;
   TrialOutcome outcome;
 };
