@@ -41,14 +41,18 @@ void add_part_forces(const Model& model, const Points& x, const std::vector<Hing
     Points& fl = scratch.strand_forces;
     std::vector<int>& idx = scratch.strand_index;
     const Eigen::Index m = static_cast<Eigen::Index>(s.nodes.size()) + 1;
-    if (p.cols() != m) p.resize(3, m);
+    // The buffers only grow (strands of different lengths share them).
+    if (p.cols() < m) {
+      p.resize(3, m);
+      fl.resize(3, m);
+    }
     for (size_t k = 0; k < s.nodes.size(); ++k) p.col(static_cast<Eigen::Index>(k)) = x.col(s.nodes[k]);
     p.col(m - 1) = group_point(model, s.anchor_group, s.anchor_rest, x, joints);
     if (idx.size() != static_cast<size_t>(m)) {
       idx.resize(static_cast<size_t>(m));
       for (size_t k = 0; k < idx.size(); ++k) idx[k] = static_cast<int>(k);
     }
-    fl.setZero(3, m);
+    fl.leftCols(m).setZero();
     scratch.strand_tension[si] = add_tendon_forces(p, idx, l0, s.k_t, fl);
     for (size_t k = 0; k < s.nodes.size(); ++k) f.col(s.nodes[k]) += fl.col(static_cast<Eigen::Index>(k));
     scratch.anchor_force[si] = fl.col(m - 1);

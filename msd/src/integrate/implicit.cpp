@@ -141,7 +141,7 @@ void assemble_parts(const Model& model, const SystemLayout& L, const Points& x, 
     const Strand& s = model.strands[si];
     const Eigen::Index m = static_cast<Eigen::Index>(s.nodes.size());
     const Eigen::Index points = m + (s.anchor_group >= 0 ? 1 : 0);
-    if (p.cols() != points) p.resize(3, points);
+    if (p.cols() != points) p.resize(3, points);  // (allocates when strands differ in length; the implicit step allocates anyway)
     for (Eigen::Index k = 0; k < m; ++k) p.col(k) = x.col(s.nodes[static_cast<size_t>(k)]);
     if (s.anchor_group >= 0) p.col(m) = group_point(model, s.anchor_group, s.anchor_rest, x, joints);
     if (!strand_jacobian(p, strand_natural_length(model, si, controls), s.k_t, K)) continue;
@@ -222,6 +222,7 @@ void assemble_system(const Model& model, const SystemLayout& L, const Points& x,
 struct ImplicitWorkspace {
   const Model* model = nullptr;  // the model the layout was made for
   int nodes = -1, edges = -1;
+  size_t strands = 0, muscles = 0;  // the parts the layout's extra blocks were made for
   SystemLayout layout;
   Eigen::SparseMatrix<double> A;
   Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
@@ -230,6 +231,7 @@ struct ImplicitWorkspace {
   State at;  // the iterate handed to evaluate_forces
   Points r_keep;  // the residual at the iterate while a chord step is tried
   bool factored = false;  // lu holds a factorisation (of an earlier iterate's Jacobian)
+  bool refresh = false;   // the last chord step contracted weakly: factorise afresh
   double factor_dt = 0.0; // the step it was made for
   std::vector<HingeState> joints_end;  // the joints at the step's end
 };
@@ -239,13 +241,16 @@ namespace {
 ImplicitWorkspace& workspace(const Model& model, Scratch& scratch) {
   if (!scratch.implicit) scratch.implicit = std::make_shared<ImplicitWorkspace>();
   ImplicitWorkspace& w = *scratch.implicit;
-  if (w.model != &model || w.nodes != model.num_nodes() || w.edges != model.plan.num_edges()) {
+  if (w.model != &model || w.nodes != model.num_nodes() || w.edges != model.plan.num_edges() ||
+      w.strands != model.strands.size() || w.muscles != model.muscles.size()) {
     w.layout = make_system_layout(model);
     w.A = w.layout.pattern;
     w.lu.analyzePattern(w.A);
     w.factored = false;
     w.nodes = model.num_nodes();
     w.edges = model.plan.num_edges();
+    w.strands = model.strands.size();
+    w.muscles = model.muscles.size();
     w.model = &model;
   }
   return w;
@@ -344,7 +349,7 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
     // Modified Newton: a factorisation kept from an earlier iterate or step
     // (same dt) gives a chord step, kept when it at least halves |G|;
     // otherwise (or without one) the Jacobian is made afresh here.
-    if (model.newton.reuse_factorization && w.factored && w.factor_dt == dt) {
+    if (model.newton.reuse_factorization && w.factored && w.factor_dt == dt && !w.refresh) {
       w.delta = w.lu.solve(w.rhs);
       w.v_trial = w.v1;
       w.r_keep = w.r;
@@ -353,6 +358,9 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
       double scale = 0.0, trial_l2 = 0.0;
       const double trial = residual(model, s, c, joints, time, dt, w, scratch, scale, trial_l2);
       if (trial_l2 <= 0.5 * l2) {
+        // A weak contraction (worse than 1/10) would spend the iteration
+        // budget: the next iteration factorises afresh.
+        w.refresh = trial_l2 > 0.1 * l2;
         out.residual = trial;
         out.scale = scale;
         l2 = trial_l2;
@@ -368,6 +376,7 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
     ++scratch.factorizations;
     w.factored = w.lu.info() == Eigen::Success;
     w.factor_dt = dt;
+    w.refresh = false;
     if (!w.factored) {
       out.why = "met a singular matrix";
       return out;
@@ -455,7 +464,9 @@ void step_backward_euler(const Model& model, State& state, const Controls& contr
   // The joints were stepped already (step_joints): the solve holds their
   // groups at the new states, halfway ones when the step is cut.
   w.joints_end = state.joints;
-  const std::vector<HingeState>& from = model.joints.empty() ? w.joints_end : scratch.joints_before;
+  // (Called without step_joints - directly - the joints have no start: no halfway states.)
+  const std::vector<HingeState>& from =
+      scratch.joints_before.size() == w.joints_end.size() ? scratch.joints_before : w.joints_end;
   advance(model, state, controls, from, w.joints_end, state.t + dt, dt, 0, w, scratch);
   scratch.newton_iterations += scratch.last_newton_iterations;
   scratch.step_cuts += scratch.last_step_cuts;

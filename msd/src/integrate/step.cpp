@@ -242,7 +242,7 @@ void step(const Model& model, State& state, const Controls& controls, double dt,
       if (joints) step_joints(model, state, controls, dt, scratch);
       state.v += 0.5 * dt * state.a;
       state.x += dt * state.v;
-      apply_constraints(model, controls, state);
+      apply_constraints(model, controls, state, &scratch);
       evaluate_forces(model, state, controls, scratch);
       accelerations(model, scratch, controls.load_scale, state.a);
       state.v += 0.5 * dt * state.a;
@@ -254,7 +254,12 @@ void step(const Model& model, State& state, const Controls& controls, double dt,
         evaluate_forces(model, state, controls, scratch);
         step_joints(model, state, controls, dt, scratch);
       }
-      step_backward_euler(model, state, controls, dt, scratch);
+      try {
+        step_backward_euler(model, state, controls, dt, scratch);
+      } catch (const SimulationFailure&) {
+        if (joints) state.joints = scratch.joints_before;  // the joints stay with the nodes, at the step's start
+        throw;
+      }
       break;
   }
   if (integrator != Integrator::VelocityVerlet) state.a_valid = false;

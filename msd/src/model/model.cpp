@@ -149,6 +149,8 @@ void check_model_parts(Model& model) {
     for (int node : g.nodes) {
       if (!node_ok(node))
         throw Error("kinematic group '" + g.name + "' refers to node " + std::to_string(node) + " of " + std::to_string(n));
+      if (model.kinematic[static_cast<size_t>(node)])
+        throw Error("node " + std::to_string(node) + " is in two kinematic groups (one is '" + g.name + "')");
       model.kinematic[static_cast<size_t>(node)] = 1;
     }
   }
@@ -161,6 +163,11 @@ void check_model_parts(Model& model) {
     if (st.anchor_group >= static_cast<int>(model.groups.size()))
       throw Error(where + " is anchored on group " + std::to_string(st.anchor_group) + " of " +
                   std::to_string(model.groups.size()));
+    if (st.anchor_group >= 0) {
+      const KinematicGroup& g = model.groups[static_cast<size_t>(st.anchor_group)];
+      if (!(g.axes[0] && g.axes[1] && g.axes[2]))
+        throw Error(where + " is anchored on group '" + g.name + "', which leaves an axis free: an anchor needs a rigid group");
+    }
     if (!(st.natural_length > 0.0) || !std::isfinite(st.natural_length) || !(st.k_t > 0.0) || !std::isfinite(st.k_t))
       throw Error(where + ": natural length and stiffness must be positive and finite");
     if (!st.anchor_rest.allFinite()) throw Error(where + ": the anchor is not finite");
@@ -173,7 +180,7 @@ void check_model_parts(Model& model) {
     for (const ContractileUnit& u : m.units)
       if (!node_ok(u.a) || !node_ok(u.b) || u.a == u.b || !(u.rest_length > 0.0))
         throw Error(where + " has a unit (" + std::to_string(u.a) + ", " + std::to_string(u.b) +
-                    ") that is not an edge of the mesh with a positive rest length");
+                    ") that does not join two distinct nodes of the model with a positive rest length");
   }
   for (size_t j = 0; j < model.joints.size(); ++j) {
     const Joint& jt = model.joints[j];

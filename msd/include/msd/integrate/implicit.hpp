@@ -47,7 +47,9 @@ SystemLayout make_system_layout(const Model& model);
 /// layout's pattern; values overwritten). K and D are the exact Jacobians of the
 /// internal forces (springs, dampers, repulsion, volume, as the model has them;
 /// gravity and dead loads do not depend on x or v). Prescribed rows and columns
-/// are left as assembled.
+/// are left as assembled. The moving parts are taken relaxed (no activation,
+/// the model's natural lengths) with every joint at angle 0: for a model with
+/// parts use the overload below.
 void assemble_system(const Model& model, const SystemLayout& layout, const Points& x, const Points& v, double c_m,
                      double c_d, double c_k, Eigen::SparseMatrix<double>& A);
 
