@@ -31,24 +31,18 @@ extern "C" void on_signal(int sig) {
   _exit(interrupted_exit_code(sig));
 }
 
-// Blocks SIGINT and SIGTERM while a slot is changed, so the handler never sees
-// a half-written path.
-class Blocked {
- public:
-  Blocked() {
-    sigset_t s;
-    sigemptyset(&s);
-    sigaddset(&s, SIGINT);
-    sigaddset(&s, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &s, &old_);
-  }
-  ~Blocked() { pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
-
- private:
-  sigset_t old_;
-};
 
 }  // namespace
+
+SignalsBlocked::SignalsBlocked() {
+  sigset_t s;
+  sigemptyset(&s);
+  sigaddset(&s, SIGINT);
+  sigaddset(&s, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &s, &old_);
+}
+
+SignalsBlocked::~SignalsBlocked() { pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
 
 void install_interrupt_handlers() {
   struct sigaction sa;
@@ -76,7 +70,7 @@ InterruptibleSection::~InterruptibleSection() { --g_depth; }
 
 RegisteredTemporary::RegisteredTemporary(const std::string& path) {
   if (path.size() >= kPathMax) return;
-  Blocked b;
+  const SignalsBlocked b;  // the handler never sees a half-written slot
   for (int i = 0; i < kSlots; ++i)
     if (g_used[i].load() == 0) {
       std::memcpy(g_paths[i], path.c_str(), path.size() + 1);
@@ -88,7 +82,7 @@ RegisteredTemporary::RegisteredTemporary(const std::string& path) {
 
 RegisteredTemporary::~RegisteredTemporary() {
   if (slot_ < 0) return;
-  Blocked b;
+  const SignalsBlocked b;  // the handler never sees a half-written slot
   g_used[slot_].store(0);
 }
 

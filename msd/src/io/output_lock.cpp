@@ -4,7 +4,6 @@
 #include "msd/io/interrupt.hpp"
 
 #include <fcntl.h>
-#include <signal.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -57,32 +56,10 @@ std::string holder_of(const std::string& path) {
 
 }  // namespace
 
-namespace {
-
-// SIGINT and SIGTERM held back while it lives: a signal that arrives between
-// creating the lock file and registering it for removal is delivered after
-// the registration, so the handler removes the file.
-class SignalsHeld {
- public:
-  SignalsHeld() {
-    sigset_t held;
-    sigemptyset(&held);
-    sigaddset(&held, SIGINT);
-    sigaddset(&held, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &held, &before_);
-  }
-  ~SignalsHeld() { pthread_sigmask(SIG_SETMASK, &before_, nullptr); }
-  SignalsHeld(const SignalsHeld&) = delete;
-  SignalsHeld& operator=(const SignalsHeld&) = delete;
-
- private:
-  sigset_t before_;
-};
-
-}  // namespace
-
 OutputLock::OutputLock(const std::string& output, const std::string& what) : path_(output + ".lock") {
-  const SignalsHeld held;
+  // Held back until the lock file is registered for removal: a signal in
+  // between would leave it behind.
+  const SignalsBlocked held;
   for (int attempt = 0; attempt < 100; ++attempt) {
     const int fd = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd < 0) throw Error(output + ": cannot create the lock file " + path_ + ": " + std::strerror(errno));

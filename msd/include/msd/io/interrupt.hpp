@@ -9,6 +9,8 @@
 
 #include "msd/integrate/step.hpp"
 
+#include <signal.h>
+
 #include <string>
 
 namespace msd {
@@ -37,6 +39,19 @@ class Interrupted : public SimulationFailure {
 inline void throw_if_interrupted(double at_time, long at_step) {
   if (const int sig = interrupt_signal()) throw Interrupted(sig, at_time, at_step);
 }
+
+/// SIGINT and SIGTERM held back (pending, delivered when it ends) while one
+/// exists: for changes the handler must never see half done.
+class SignalsBlocked {
+ public:
+  SignalsBlocked();
+  ~SignalsBlocked();
+  SignalsBlocked(const SignalsBlocked&) = delete;
+  SignalsBlocked& operator=(const SignalsBlocked&) = delete;
+
+ private:
+  sigset_t old_;
+};
 
 /// While one exists a signal sets the flag instead of ending the process.
 class InterruptibleSection {
