@@ -343,33 +343,13 @@ std::string run_input_hash(const Spec& spec, const MsdProblem& p) {
   return sha256_hex(o.str());
 }
 
-void write_state(tbio::CheckpointWriter& w, const msd::State& st) {
-  w.points(st.x);
-  w.points(st.v);
-  w.number(st.t);
-  w.integer(st.step);
-  w.points(st.a);
-  w.integer(st.a_valid ? 1 : 0);
-}
-
-msd::State read_state(tbio::CheckpointReader& r) {
-  msd::State st;
-  st.x = r.points();
-  st.v = r.points();
-  st.t = r.number();
-  st.step = r.integer();
-  st.a = r.points();
-  st.a_valid = r.integer() != 0;
-  return st;
-}
-
 MsdCheckpoint read_msd_checkpoint(const std::string& path, const Spec& spec, const MsdProblem& p) {
   tbio::CheckpointReader r(path, "run", run_input_hash(spec, p), tbio::fingerprint(p.model.rest_positions, p.model.mass));
   MsdCheckpoint c;
   c.at.step = r.integer();
   c.at.outputs = r.integer();
   c.next_frame = r.number();
-  c.state = read_state(r);
+  c.state = r.state();
   c.results = r.snapshot();
   r.finish();
   if (c.state.x.cols() != p.model.num_nodes() || c.state.v.cols() != p.model.num_nodes())
@@ -442,7 +422,7 @@ void finish_msd_file(ResultsWriter& out, RunSummary& s, const Spec& spec, const 
       out.set_metric("zero_crossings", rd.crossings);
     }
     out.set_timing(s.wall_seconds, s.steps, p.stepping.dt, 1);
-    if (p.stepping.integrator == msd::Integrator::BackwardEuler && !p.cvode) {
+    if (msd::is_implicit(p.stepping.integrator) && !p.cvode) {
       out.set_timing_detail("newton_iterations", static_cast<double>(s.newton_iterations));
       out.set_timing_detail("step_cuts", static_cast<double>(s.step_cuts));
       out.set_timing_detail("factorizations", static_cast<double>(s.factorizations));
@@ -531,7 +511,7 @@ RunSummary run_msd(const Spec& spec, const std::string& out_path, const Progress
         w.integer(k);
         w.integer(outputs);
         w.number(next_frame);
-        write_state(w, st);
+        w.state(st);
         w.snapshot(out.snapshot());
         w.save(cp_path);
         next_checkpoint = (std::floor(st.t / cp.every + 1e-9) + 1.0) * cp.every;

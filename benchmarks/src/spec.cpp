@@ -167,14 +167,14 @@ MsdSpec parse_msd(const Fields& f) {
       if (f.has(k)) throw msd::Error(f.where(k) + "only meaningful with 'integrator: cvode'");
     m.dt = number(f, "msd.dt");
   }
-  if (m.integrator == "backward_euler") {
+  if (m.integrator == "backward_euler" || m.integrator == "bdf2") {
     m.newton_tolerance = number(f, "msd.newton_tolerance");
     m.newton_max_iterations = static_cast<int>(integer(f, "msd.newton_max_iterations"));
     m.newton_max_step_cuts = static_cast<int>(integer(f, "msd.newton_max_step_cuts"));
     m.newton_reuse_factorization = tbio::read_flag(f, spec_parameter("msd.newton_reuse_factorization"));
   } else {
     for (const char* k : {"newton_tolerance", "newton_max_iterations", "newton_max_step_cuts", "newton_reuse_factorization"})
-      if (f.has(k)) throw msd::Error(f.where(k) + "only meaningful with 'integrator: backward_euler'");
+      if (f.has(k)) throw msd::Error(f.where(k) + "only meaningful with 'integrator: backward_euler' or 'bdf2'");
   }
   return m;
 }

@@ -181,11 +181,11 @@ std::vector<ExtremeRow> run_extremes(const Spec& spec, const std::vector<std::st
   };
   std::vector<Run> runs;
   for (const auto& terms : term_sets) runs.push_back({spec.msd->integrator, terms});
-  if (spec.msd->integrator != "backward_euler") runs.push_back({"backward_euler", "all"});
+  if (!msd::is_implicit(msd::parse_integrator(spec.msd->integrator))) runs.push_back({"backward_euler", "all"});
   for (const Case& k : cases)
     for (const Run& run : runs) {
       const std::string& terms = run.terms;
-      const bool implicit = run.integrator == "backward_euler";
+      const bool implicit = msd::is_implicit(msd::parse_integrator(run.integrator));
       const double end = k.path.back().first;
       // The case's natural step: the spec's dt, scaled as the explicit limit
       // scales with the stiffness (sqrt of the modulus or volume-factor ratio);

@@ -44,6 +44,21 @@ void CheckpointWriter::points(const msd::Points& p) {
   bytes_.append(reinterpret_cast<const char*>(p.data()), static_cast<size_t>(p.size()) * sizeof(double));
 }
 
+void CheckpointWriter::state(const msd::State& s) {
+  points(s.x);
+  points(s.v);
+  number(s.t);
+  integer(s.step);
+  points(s.a);
+  integer(s.a_valid ? 1 : 0);
+  points(s.x_prev);
+  points(s.v_prev);
+  number(s.dt_prev);
+  std::vector<double> joints;
+  for (const msd::HingeState& j : s.joints) joints.insert(joints.end(), {j.angle, j.velocity});
+  numbers(joints);
+}
+
 void CheckpointWriter::snapshot(const ResultsSnapshot& s) {
   integer(static_cast<std::int64_t>(s.rows.size()));
   for (const auto& r : s.rows) numbers(r);
@@ -143,6 +158,23 @@ msd::Points CheckpointReader::points() {
   msd::Points p(3, static_cast<Eigen::Index>(n));
   take(p.data(), n * 3 * sizeof(double));
   return p;
+}
+
+msd::State CheckpointReader::state() {
+  msd::State s;
+  s.x = points();
+  s.v = points();
+  s.t = number();
+  s.step = integer();
+  s.a = points();
+  s.a_valid = integer() != 0;
+  s.x_prev = points();
+  s.v_prev = points();
+  s.dt_prev = number();
+  const std::vector<double> joints = numbers();
+  if (joints.size() % 2 != 0) throw msd::Error(path_ + ": a checkpoint's joint states come in pairs (angle, velocity)");
+  for (size_t j = 0; j + 1 < joints.size(); j += 2) s.joints.push_back({joints[j], joints[j + 1]});
+  return s;
 }
 
 ResultsSnapshot CheckpointReader::snapshot() {

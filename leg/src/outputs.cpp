@@ -133,7 +133,7 @@ tbio::Json summary_json(const LegRunSummary& s, const LegScene& scene) {
   j["wall_per_simulated_second"] = s.wall_per_simulated();
   j["dt"] = scene.dt;
   j["integrator"] = msd::to_string(scene.integrator);
-  if (scene.integrator == msd::Integrator::BackwardEuler) {
+  if (msd::is_implicit(scene.integrator)) {
     j["newton_iterations"] = s.newton_iterations;
     j["step_cuts"] = s.step_cuts;
     j["factorizations"] = s.factorizations;

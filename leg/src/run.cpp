@@ -89,13 +89,7 @@ void write_leg_checkpoint(const std::string& path, const std::string& input_hash
                           const LegLoop& l, tbio::ResultsWriter& writer) {
   tbio::CheckpointWriter w("leg", input_hash, model_hash);
   w.integer(l.step);
-  const msd::State& t = l.state.tissue;
-  w.points(t.x);
-  w.points(t.v);
-  w.number(t.t);
-  w.integer(t.step);
-  w.points(t.a);
-  w.integer(t.a_valid ? 1 : 0);
+  w.state(l.state.tissue);
   w.number(l.state.knee.angle);
   w.number(l.state.knee.velocity);
   const msd::LegControls& c = l.controls;
@@ -128,13 +122,7 @@ void write_leg_checkpoint(const std::string& path, const std::string& input_hash
 LegLoop read_leg_checkpoint(tbio::CheckpointReader& r, const msd::LegModel& leg, tbio::ResultsSnapshot& results) {
   LegLoop l;
   l.step = r.integer();
-  msd::State& t = l.state.tissue;
-  t.x = r.points();
-  t.v = r.points();
-  t.t = r.number();
-  t.step = r.integer();
-  t.a = r.points();
-  t.a_valid = r.integer() != 0;
+  l.state.tissue = r.state();
   l.state.knee.angle = r.number();
   l.state.knee.velocity = r.number();
   msd::LegControls& c = l.controls;
@@ -163,7 +151,7 @@ LegLoop read_leg_checkpoint(tbio::CheckpointReader& r, const msd::LegModel& leg,
   }
   results = r.snapshot();
   r.finish();
-  if (t.x.cols() != leg.tissue.num_nodes() || t.v.cols() != leg.tissue.num_nodes())
+  if (l.state.tissue.x.cols() != leg.tissue.num_nodes() || l.state.tissue.v.cols() != leg.tissue.num_nodes())
     throw msd::Error(r.path() + ": the checkpoint's state does not match the leg");
   return l;
 }

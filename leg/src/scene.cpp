@@ -141,8 +141,8 @@ void read_run(const Fields& f, const std::string& path, LegScene& s) {
   o.reference_forces = tbio::read_choice(f, leg_scene_parameter("forces")) == "reference";
   s.integrator = msd::parse_integrator(tbio::read_choice(f, leg_scene_parameter("integrator")));
   if (const auto n = f.optional_section("newton")) {
-    if (s.integrator != msd::Integrator::BackwardEuler)
-      throw msd::Error(f.where("newton") + "only meaningful with 'integrator: backward_euler'");
+    if (!msd::is_implicit(s.integrator))
+      throw msd::Error(f.where("newton") + "only meaningful with 'integrator: backward_euler' or 'bdf2'");
     n->only({"tolerance", "max_iterations", "max_step_cuts", "reuse_factorization"});
     o.newton.tolerance = number(*n, "newton.tolerance");
     o.newton.max_iterations = static_cast<int>(tbio::read_integer(*n, leg_scene_parameter("newton.max_iterations")));

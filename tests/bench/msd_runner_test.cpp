@@ -130,4 +130,23 @@ TEST(MsdRunner, NewtonSettingsBelongToBackwardEulerOnly) {
   text = kSpec;
   text.replace(text.find("dt: 1.0e-4"), 10, "dt: 1.0e-4, integrator: backward_euler, newton_max_iterations: 0");
   EXPECT_THROW(bench::parse_spec(text, "small.yaml"), msd::Error);
+  // BDF2 takes them too.
+  text = kSpec;
+  text.replace(text.find("dt: 1.0e-4"), 10, "dt: 1.0e-4, integrator: bdf2, newton_max_iterations: 7");
+  EXPECT_EQ(bench::parse_spec(text, "small.yaml").msd->newton_max_iterations, 7);
+}
+
+TEST(MsdRunner, Bdf2CompletesAtAStepWhereSymplecticEulerBlowsUpAndRecordsNewtonsWork) {
+  testing_support::TempDir dir("runner");
+  std::string text = kSpec;
+  text.replace(text.find("dt: 1.0e-4"), 10, "dt: 1.0e-2, integrator: bdf2");
+  const bench::RunSummary s = bench::run_msd(bench::parse_spec(text, "small.yaml"), dir.file("bdf2.h5"));
+  ASSERT_TRUE(s.complete) << s.failure;
+  const bench::Results r = bench::read_results(dir.file("bdf2.h5"));
+  EXPECT_EQ(r.meta.at("integrator"), "bdf2");
+  EXPECT_DOUBLE_EQ(r.timing.at("steps"), 40);
+  EXPECT_GE(r.timing.at("newton_iterations"), 40);
+  EXPECT_GE(r.timing.at("factorizations"), 1);
+  EXPECT_EQ(r.series.at("inverted_elements").back(), 0.0);
+  EXPECT_GT(r.series.at("nominal_stress").back(), 0.0);
 }

@@ -81,3 +81,39 @@ TEST(Checkpoint, AnotherInputModelKindVersionOrADamagedFileIsRefused) {
   EXPECT_NE(error_of([&] { tbio::CheckpointReader(path, "leg", "in", "model"); }).find("not a tissuebench checkpoint"),
             std::string::npos);
 }
+
+TEST(Checkpoint, AStateIsReadBackWholeWithTheIntegratorsMemories) {
+  // Velocity Verlet's acceleration, BDF2's history and the joints: a resumed
+  // run continues from exactly the state it left.
+  testing_support::TempDir dir("checkpoint");
+  const std::string path = dir.file("s.checkpoint");
+  msd::State s;
+  s.x = msd::Points::Random(3, 5);
+  s.v = msd::Points::Random(3, 5);
+  s.t = 0.123;
+  s.step = 77;
+  s.a = msd::Points::Random(3, 5);
+  s.a_valid = true;
+  s.x_prev = msd::Points::Random(3, 5);
+  s.v_prev = msd::Points::Random(3, 5);
+  s.dt_prev = 1.0 / 3.0e3;
+  s.joints = {{0.5, -1.25}, {1.0 / 7.0, 0.0}};
+  tbio::CheckpointWriter w("run", "in", "model");
+  w.state(s);
+  w.save(path);
+  tbio::CheckpointReader r(path, "run", "in", "model");
+  const msd::State b = r.state();
+  EXPECT_NO_THROW(r.finish());
+  EXPECT_EQ(b.x, s.x);
+  EXPECT_EQ(b.v, s.v);
+  EXPECT_EQ(b.t, s.t);
+  EXPECT_EQ(b.step, s.step);
+  EXPECT_EQ(b.a, s.a);
+  EXPECT_TRUE(b.a_valid);
+  EXPECT_EQ(b.x_prev, s.x_prev);
+  EXPECT_EQ(b.v_prev, s.v_prev);
+  EXPECT_EQ(b.dt_prev, s.dt_prev);
+  ASSERT_EQ(b.joints.size(), 2u);
+  EXPECT_EQ(b.joints[1].angle, s.joints[1].angle);
+  EXPECT_EQ(b.joints[0].velocity, s.joints[0].velocity);
+}

@@ -233,7 +233,10 @@ TEST(LegScene, TheIntegratorAndItsNewtonSettingsAreReadAndMisuseIsRefused) {
   f = variant_of("drop", "dt: 2.0e-4", "dt: 2.0e-4\nnewton: {tolerance: 1.0e-6}", dir + "/newton_explicit.yaml");
   std::string e = error_of(f);
   EXPECT_NE(e.find("newton_explicit.yaml:"), std::string::npos) << e;
-  EXPECT_NE(e.find("only meaningful with 'integrator: backward_euler'"), std::string::npos) << e;
+  EXPECT_NE(e.find("only meaningful with 'integrator: backward_euler' or 'bdf2'"), std::string::npos) << e;
+  f = variant_of("drop", "dt: 2.0e-4", "dt: 2.0e-4\nintegrator: bdf2\nnewton: {max_iterations: 9}", dir + "/bdf2.yaml");
+  EXPECT_EQ(leg::read_leg_scene(f).integrator, msd::Integrator::Bdf2);
+  EXPECT_EQ(leg::read_leg_scene(f).model.newton.max_iterations, 9);
   f = variant_of("drop", "dt: 2.0e-4", "dt: 2.0e-4\nintegrator: rk4", dir + "/rk4.yaml");
   e = error_of(f);
   EXPECT_NE(e.find("integrator"), std::string::npos) << e;

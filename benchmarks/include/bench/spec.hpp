@@ -61,7 +61,7 @@ struct MsdSpec {
   std::string mass_lumping = "per_tet";   ///< per_tet | equal
   std::vector<std::string> terms{"springs", "dampers", "repulsion", "volume"};
   double nonlinear_threshold = 0.0;       ///< 0 = off
-  /// explicit_euler | symplectic_euler | velocity_verlet | backward_euler
+  /// explicit_euler | symplectic_euler | velocity_verlet | backward_euler | bdf2
   /// (implicit) | cvode (SUNDIALS BDF, adaptive; the time-exact reference of
   /// the time-error study)
   std::string integrator = "symplectic_euler";

@@ -11,6 +11,7 @@
 #include "tbio/results_file.hpp"
 
 #include "msd/core/types.hpp"
+#include "msd/model/model.hpp"
 
 #include <cstdint>
 #include <string>
@@ -18,7 +19,8 @@
 
 namespace tbio {
 
-constexpr std::uint32_t kCheckpointVersion = 1;
+/// 2: the state carries BDF2's history (State::x_prev, v_prev, dt_prev) and the joints.
+constexpr std::uint32_t kCheckpointVersion = 2;
 
 class CheckpointWriter {
  public:
@@ -29,6 +31,9 @@ class CheckpointWriter {
   void text(const std::string& s);
   void points(const msd::Points& p);
   void snapshot(const ResultsSnapshot& s);
+  /// The whole of an msd::State: positions, velocities, time, step, the
+  /// integrators' memories (velocity Verlet's acceleration, BDF2's history), joints.
+  void state(const msd::State& s);
   /// Writes the file (whole or nothing). Throws msd::Error naming it.
   void save(const std::string& path) const;
 
@@ -58,6 +63,7 @@ class CheckpointReader {
   std::string text();
   msd::Points points();
   ResultsSnapshot snapshot();
+  msd::State state();
   /// Throws unless every byte was read.
   void finish() const;
   const std::string& path() const { return path_; }

@@ -227,12 +227,15 @@ struct ImplicitWorkspace {
   Eigen::SparseMatrix<double> A;
   Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
   Points x1, v1, v_trial, r, load;
+  // The step's base: x+ = x_base + h v+ and M (v+ - v_base) = h F (backward
+  // Euler: the state and h = dt; BDF2: its combination of two states).
+  Points x_base, v_base;
   Eigen::VectorXd rhs, delta;
   State at;  // the iterate handed to evaluate_forces
   Points r_keep;  // the residual at the iterate while a chord step is tried
   bool factored = false;  // lu holds a factorisation (of an earlier iterate's Jacobian)
   bool refresh = false;   // the last chord step contracted weakly: factorise afresh
-  double factor_dt = 0.0; // the step it was made for
+  double factor_h = 0.0;  // the h it was made for (M - h D - h^2 K)
   std::vector<HingeState> joints_end;  // the joints at the step's end
 };
 
@@ -256,18 +259,19 @@ ImplicitWorkspace& workspace(const Model& model, Scratch& scratch) {
   return w;
 }
 
-// x1 = x + dt v1 on free components; prescribed ones at their values at t + dt
-// (groups a joint drives at the joints' states `joints`).
-void positions_from_velocities(const Model& model, const State& s, const Controls& c,
-                               const std::vector<HingeState>& joints, double dt, ImplicitWorkspace& w) {
-  w.x1 = s.x + dt * w.v1;
+// x1 = x_base + h v1 on free components; prescribed ones at their values at
+// t + dt (groups a joint drives at the joints' states `joints`).
+void positions_from_velocities(const Model& model, const Controls& c, const std::vector<HingeState>& joints,
+                               double h, ImplicitWorkspace& w) {
+  w.x1 = w.x_base + h * w.v1;
   apply_group_constraints(model, c, joints, w.x1, w.v1);
 }
 
-// G at (x1, v1) into w.r (prescribed components zero); returns max |G_i|,
-// sets `l2` to |G| and `scale` to the largest term in the balance.
+// G = M (v1 - v_base) - h (f(x1, v1) + load) into w.r (prescribed
+// components zero); returns max |G_i|, sets `l2` to |G| and `scale` to the
+// largest term in the balance.
 double residual(const Model& model, const State& s, const Controls& c, const std::vector<HingeState>& joints,
-                double time, double dt, ImplicitWorkspace& w, Scratch& scratch, double& scale, double& l2) {
+                double time, double h, ImplicitWorkspace& w, Scratch& scratch, double& scale, double& l2) {
   State& at = w.at;  // evaluate_forces reads x, v and the joints
   at.x.swap(w.x1);
   at.v.swap(w.v1);
@@ -290,10 +294,10 @@ double residual(const Model& model, const State& s, const Controls& c, const std
   // The balance's largest term: momenta (their round-off bounds how small G
   // can get), the momentum change, and the forces times dt.
   scale = std::max((w.v1 * model.mass.asDiagonal()).cwiseAbs().maxCoeff(),
-                   (s.v * model.mass.asDiagonal()).cwiseAbs().maxCoeff());
-  w.r = (w.v1 - s.v) * model.mass.asDiagonal();
-  scale = std::max({scale, w.r.cwiseAbs().maxCoeff(), dt * f.cwiseAbs().maxCoeff(), dt * w.load.cwiseAbs().maxCoeff()});
-  w.r -= dt * (f + w.load);
+                   (w.v_base * model.mass.asDiagonal()).cwiseAbs().maxCoeff());
+  w.r = (w.v1 - w.v_base) * model.mass.asDiagonal();
+  scale = std::max({scale, w.r.cwiseAbs().maxCoeff(), h * f.cwiseAbs().maxCoeff(), h * w.load.cwiseAbs().maxCoeff()});
+  w.r -= h * (f + w.load);
   double worst = 0.0, sum = 0.0;
   for (Eigen::Index i = 0; i < w.r.size(); ++i) {
     if (w.layout.fixed[static_cast<size_t>(i)]) w.r.data()[i] = 0.0;
@@ -325,16 +329,17 @@ struct NewtonResult {
   std::string why;
 };
 
-// Newton's method on G(v+) = 0 for one step of dt from `s` to time `time`;
+// Newton's method on G(v+) = 0 for one step from `s` to time `time`, with
+// the base (w.x_base, w.v_base) and coefficient h set; starts from s.v and
 // leaves the iterate in w.x1, w.v1.
 NewtonResult newton(const Model& model, const State& s, const Controls& c, const std::vector<HingeState>& joints,
-                    double time, double dt, ImplicitWorkspace& w, Scratch& scratch) {
+                    double time, double h, ImplicitWorkspace& w, Scratch& scratch) {
   const double tol = model.newton.tolerance;
   NewtonResult out;
   w.v1 = s.v;
-  positions_from_velocities(model, s, c, joints, dt, w);
+  positions_from_velocities(model, c, joints, h, w);
   double l2 = 0.0;
-  out.residual = residual(model, s, c, joints, time, dt, w, scratch, out.scale, l2);
+  out.residual = residual(model, s, c, joints, time, h, w, scratch, out.scale, l2);
   while (!(out.residual <= tol * out.scale)) {
     if (!std::isfinite(out.residual)) {
       out.why = "met non-finite forces";
@@ -347,16 +352,16 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
     ++out.iterations;
     w.rhs = -Eigen::Map<const Eigen::VectorXd>(w.r.data(), w.r.size());
     // Modified Newton: a factorisation kept from an earlier iterate or step
-    // (same dt) gives a chord step, kept when it at least halves |G|;
+    // (same h) gives a chord step, kept when it at least halves |G|;
     // otherwise (or without one) the Jacobian is made afresh here.
-    if (model.newton.reuse_factorization && w.factored && w.factor_dt == dt && !w.refresh) {
+    if (model.newton.reuse_factorization && w.factored && w.factor_h == h && !w.refresh) {
       w.delta = w.lu.solve(w.rhs);
       w.v_trial = w.v1;
       w.r_keep = w.r;
       w.v1 = w.v_trial + Eigen::Map<const Points>(w.delta.data(), 3, model.num_nodes());
-      positions_from_velocities(model, s, c, joints, dt, w);
+      positions_from_velocities(model, c, joints, h, w);
       double scale = 0.0, trial_l2 = 0.0;
-      const double trial = residual(model, s, c, joints, time, dt, w, scratch, scale, trial_l2);
+      const double trial = residual(model, s, c, joints, time, h, w, scratch, scale, trial_l2);
       if (trial_l2 <= 0.5 * l2) {
         // A weak contraction (worse than 1/10) would spend the iteration
         // budget: the next iteration factorises afresh.
@@ -368,14 +373,14 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
       }
       w.v1 = w.v_trial;  // back to the iterate, for a fresh Jacobian there
       w.r = w.r_keep;
-      positions_from_velocities(model, s, c, joints, dt, w);
+      positions_from_velocities(model, c, joints, h, w);
     }
-    assemble_system(model, w.layout, w.x1, w.v1, joints, c, 1.0, -dt, -dt * dt, w.A);
+    assemble_system(model, w.layout, w.x1, w.v1, joints, c, 1.0, -h, -h * h, w.A);
     fix_prescribed(w.layout, w.A);
     w.lu.factorize(w.A);
     ++scratch.factorizations;
     w.factored = w.lu.info() == Eigen::Success;
-    w.factor_dt = dt;
+    w.factor_h = h;
     w.refresh = false;
     if (!w.factored) {
       out.why = "met a singular matrix";
@@ -388,9 +393,9 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
     double alpha = 1.0;
     for (int ls = 0;; ++ls) {
       w.v1 = w.v_trial + alpha * Eigen::Map<const Points>(w.delta.data(), 3, model.num_nodes());
-      positions_from_velocities(model, s, c, joints, dt, w);
+      positions_from_velocities(model, c, joints, h, w);
       double scale = 0.0, trial_l2 = 0.0;
-      const double trial = residual(model, s, c, joints, time, dt, w, scratch, scale, trial_l2);
+      const double trial = residual(model, s, c, joints, time, h, w, scratch, scale, trial_l2);
       if (trial_l2 < l2 || ls == 10) {
         out.residual = trial;
         out.scale = scale;
@@ -415,15 +420,44 @@ Vec3 group_offset_now(const Model& model, const State& s, size_t g, const Vec3& 
   return off;
 }
 
+// Sets the step's base and returns h. Backward Euler: the state, h = dt.
+// BDF2 with a history one step back of length dt- (omega = dt / dt-), the
+// variable-step form (Hairer, Norsett & Wanner, Solving ODEs I, III.5):
+//   y+ - (1+omega)^2/(1+2 omega) y + omega^2/(1+2 omega) y- = (1+omega)/(1+2 omega) dt F(y+),
+// for omega = 1 the familiar y+ = 4/3 y - 1/3 y- + 2/3 dt F(y+). Without a
+// history, or when the step grew more than twice (omega > 2: near the edge of
+// its zero-stability, omega < 1 + sqrt 2), a backward-Euler step restarts it.
+double set_base(const State& s, double dt, bool bdf2, ImplicitWorkspace& w) {
+  if (bdf2 && s.dt_prev > 0.0 && dt <= 2.0 * s.dt_prev && s.x_prev.cols() == s.x.cols() &&
+      s.v_prev.cols() == s.v.cols()) {
+    const double omega = dt / s.dt_prev, d = 1.0 + 2.0 * omega;
+    const double alpha = (1.0 + omega) * (1.0 + omega) / d, beta = omega * omega / d;
+    w.x_base = alpha * s.x - beta * s.x_prev;
+    w.v_base = alpha * s.v - beta * s.v_prev;
+    return (1.0 + omega) / d * dt;
+  }
+  w.x_base = s.x;
+  w.v_base = s.v;
+  return dt;
+}
+
 // Advances s by dt to `time`: one Newton solve, or - when it fails - two
 // half steps (prescribed offsets and joint states halfway), up to
 // max_step_cuts times. The joints go from `from` to `to` over the step.
+// With `bdf2` each solved step is a BDF2 step where s has a history, and
+// leaves s's history for the next one.
 void advance(const Model& model, State& s, const Controls& c, const std::vector<HingeState>& from,
-             const std::vector<HingeState>& to, double time, double dt, int cuts, ImplicitWorkspace& w,
-             Scratch& scratch) {
-  const NewtonResult r = newton(model, s, c, to, time, dt, w, scratch);
+             const std::vector<HingeState>& to, double time, double dt, int cuts, bool bdf2,
+             ImplicitWorkspace& w, Scratch& scratch) {
+  const double h = set_base(s, dt, bdf2, w);
+  const NewtonResult r = newton(model, s, c, to, time, h, w, scratch);
   scratch.last_newton_iterations += r.iterations;
   if (r.converged) {
+    if (bdf2) {
+      s.x_prev.swap(s.x);
+      s.v_prev.swap(s.v);
+      s.dt_prev = dt;
+    }
     s.x = w.x1;
     s.v = w.v1;
     return;
@@ -432,9 +466,9 @@ void advance(const Model& model, State& s, const Controls& c, const std::vector<
     Eigen::Index axis = 0, node = 0;
     w.r.cwiseAbs().maxCoeff(&axis, &node);
     std::ostringstream m;
-    m << "backward Euler: Newton " << r.why << " after " << r.iterations << " iterations with the step cut "
-      << cuts << " times to " << dt << " s (residual " << r.residual / dt << " N, tolerance "
-      << model.newton.tolerance * r.scale / dt << " N)";
+    m << (bdf2 ? "BDF2" : "backward Euler") << ": Newton " << r.why << " after " << r.iterations << " iterations with the step cut "
+      << cuts << " times to " << dt << " s (residual " << r.residual / h << " N, tolerance "
+      << model.newton.tolerance * r.scale / h << " N)";
     throw SimulationFailure(m.str(), time, s.step + 1, -1, static_cast<int>(node));
   }
   Controls mid = c;
@@ -444,16 +478,19 @@ void advance(const Model& model, State& s, const Controls& c, const std::vector<
   for (size_t j = 0; j < to.size(); ++j)
     half[j] = {0.5 * (from[j].angle + to[j].angle), 0.5 * (from[j].velocity + to[j].velocity)};
   ++scratch.last_step_cuts;
-  advance(model, s, mid, from, half, time - 0.5 * dt, 0.5 * dt, cuts + 1, w, scratch);
-  advance(model, s, c, half, to, time, 0.5 * dt, cuts + 1, w, scratch);
+  advance(model, s, mid, from, half, time - 0.5 * dt, 0.5 * dt, cuts + 1, bdf2, w, scratch);
+  advance(model, s, c, half, to, time, 0.5 * dt, cuts + 1, bdf2, w, scratch);
 }
 
 }  // namespace
 
-void step_backward_euler(const Model& model, State& state, const Controls& controls, double dt, Scratch& scratch) {
+namespace {
+
+void step_implicit(const Model& model, State& state, const Controls& controls, double dt, bool bdf2,
+                   Scratch& scratch) {
   ImplicitWorkspace& w = workspace(model, scratch);
   if (controls.group_offset.size() < model.groups.size() || controls.group_velocity.size() < model.groups.size())
-    throw Error("backward Euler: controls for " + std::to_string(model.groups.size()) + " kinematic groups needed");
+    throw Error(std::string(bdf2 ? "BDF2" : "backward Euler") + ": controls for " + std::to_string(model.groups.size()) + " kinematic groups needed");
   const double s = controls.load_scale;
   // Dead loads: s f_ext + s M g.
   w.load.setZero(3, model.num_nodes());
@@ -467,9 +504,19 @@ void step_backward_euler(const Model& model, State& state, const Controls& contr
   // (Called without step_joints - directly - the joints have no start: no halfway states.)
   const std::vector<HingeState>& from =
       scratch.joints_before.size() == w.joints_end.size() ? scratch.joints_before : w.joints_end;
-  advance(model, state, controls, from, w.joints_end, state.t + dt, dt, 0, w, scratch);
+  advance(model, state, controls, from, w.joints_end, state.t + dt, dt, 0, bdf2, w, scratch);
   scratch.newton_iterations += scratch.last_newton_iterations;
   scratch.step_cuts += scratch.last_step_cuts;
+}
+
+}  // namespace
+
+void step_backward_euler(const Model& model, State& state, const Controls& controls, double dt, Scratch& scratch) {
+  step_implicit(model, state, controls, dt, false, scratch);
+}
+
+void step_bdf2(const Model& model, State& state, const Controls& controls, double dt, Scratch& scratch) {
+  step_implicit(model, state, controls, dt, true, scratch);
 }
 
 }  // namespace msd

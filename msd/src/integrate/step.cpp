@@ -14,8 +14,9 @@ Integrator parse_integrator(const std::string& name) {
   if (name == "symplectic_euler" || name == "semi_implicit_euler") return Integrator::SymplecticEuler;
   if (name == "velocity_verlet") return Integrator::VelocityVerlet;
   if (name == "backward_euler") return Integrator::BackwardEuler;
+  if (name == "bdf2") return Integrator::Bdf2;
   throw Error("unknown integrator '" + name +
-              "' (expected explicit_euler, symplectic_euler, velocity_verlet or backward_euler)");
+              "' (expected explicit_euler, symplectic_euler, velocity_verlet, backward_euler or bdf2)");
 }
 
 std::string to_string(Integrator integrator) {
@@ -24,6 +25,7 @@ std::string to_string(Integrator integrator) {
     case Integrator::SymplecticEuler: return "symplectic_euler";
     case Integrator::VelocityVerlet: return "velocity_verlet";
     case Integrator::BackwardEuler: return "backward_euler";
+    case Integrator::Bdf2: return "bdf2";
   }
   return "?";
 }
@@ -250,12 +252,16 @@ void step(const Model& model, State& state, const Controls& controls, double dt,
       break;
     }
     case Integrator::BackwardEuler:
+    case Integrator::Bdf2:
       if (joints) {
         evaluate_forces(model, state, controls, scratch);
         step_joints(model, state, controls, dt, scratch);
       }
       try {
-        step_backward_euler(model, state, controls, dt, scratch);
+        if (integrator == Integrator::Bdf2)
+          step_bdf2(model, state, controls, dt, scratch);
+        else
+          step_backward_euler(model, state, controls, dt, scratch);
       } catch (const SimulationFailure&) {
         if (joints) state.joints = scratch.joints_before;  // the joints stay with the nodes, at the step's start
         throw;
@@ -263,6 +269,7 @@ void step(const Model& model, State& state, const Controls& controls, double dt,
       break;
   }
   if (integrator != Integrator::VelocityVerlet) state.a_valid = false;
+  if (integrator != Integrator::Bdf2) state.dt_prev = 0.0;  // another integrator's step: no BDF2 history
   state.t += dt;
   ++state.step;
   apply_constraints(model, controls, state, &scratch);

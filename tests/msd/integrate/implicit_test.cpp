@@ -412,3 +412,149 @@ TEST(Implicit, ModifiedNewtonReusesItsFactorisationAndConvergesToTheSameSteps) {
   // agree far below the motion itself.
   EXPECT_LT((end[1] - end[0]).cwiseAbs().maxCoeff(), 1e-6 * total[0]);
 }
+
+// --- BDF2 ----------------------------------------------------------------------
+
+namespace {
+
+// The oscillator of run_oscillator stepped through a repeating pattern of
+// step lengths (scaled by `scale`), to t_end; returns z - 1 of the free node.
+double run_pattern(msd::Integrator integ, const std::vector<double>& pattern, double scale, double t_end) {
+  const msd::Model m = oscillator();
+  msd::State s = msd::rest_state(m);
+  s.x(2, 3) += 1e-3;
+  msd::Scratch scratch;
+  for (size_t k = 0; s.t < t_end - 1e-12; ++k)
+    msd::step(m, s, at_rest(m), std::min(scale * pattern[k % pattern.size()], t_end - s.t), integ, scratch);
+  return s.x(2, 3) - 1.0;
+}
+
+}  // namespace
+
+TEST(Implicit, Bdf2ConvergesAtSecondOrder) {
+  // Halving the step quarters the error (the first, backward-Euler step adds
+  // an O(dt^2) error once, so the order holds).
+  const double ref = run_oscillator(msd::Integrator::VelocityVerlet, 1e-5, 0.5);
+  const double e1 = std::abs(run_oscillator(msd::Integrator::Bdf2, 2e-3, 0.5) - ref);
+  const double e2 = std::abs(run_oscillator(msd::Integrator::Bdf2, 1e-3, 0.5) - ref);
+  EXPECT_NEAR(e1 / e2, 4.0, 0.6);
+  // And at the same step it is far closer than backward Euler.
+  EXPECT_LT(e1, 0.1 * std::abs(run_oscillator(msd::Integrator::BackwardEuler, 2e-3, 0.5) - ref));
+}
+
+TEST(Implicit, Bdf2KeepsSecondOrderWhenTheStepChangesEveryStep) {
+  // Steps alternating between h and 1.7 h (ratios 1.7 and 1/1.7): the
+  // variable-step coefficients keep the order; the constant-step ones
+  // (4/3, 1/3, 2/3) would not.
+  const std::vector<double> pattern{1.0, 1.7};
+  const double ref = run_oscillator(msd::Integrator::VelocityVerlet, 1e-5, 0.5);
+  const double e1 = std::abs(run_pattern(msd::Integrator::Bdf2, pattern, 2e-3, 0.5) - ref);
+  const double e2 = std::abs(run_pattern(msd::Integrator::Bdf2, pattern, 1e-3, 0.5) - ref);
+  EXPECT_NEAR(e1 / e2, 4.0, 0.8);
+}
+
+TEST(Implicit, Bdf2DampsAResolvedFreeVibrationFarLessThanBackwardEuler) {
+  // Springs only: the exact motion keeps its energy. At omega dt = 0.057
+  // (4.5 Hz, 2 ms) backward Euler's amplitude falls by 1/sqrt(1 + (omega
+  // dt)^2) a step - its energy to e^-1.6 = 0.2 in 500 steps - while BDF2's
+  // damping per step is of order (omega dt)^4 / 4: under 1 % in 500 steps.
+  double end[2];
+  int k = 0;
+  for (msd::Integrator integ : {msd::Integrator::BackwardEuler, msd::Integrator::Bdf2}) {
+    const msd::Model m = oscillator();
+    msd::State s = msd::rest_state(m);
+    s.x(2, 3) += 1e-2;
+    msd::Scratch scratch;
+    const double e0 = spring_energy(m, s);
+    double peak = 0.0;
+    for (int i = 0; i < 500; ++i) {
+      msd::step(m, s, at_rest(m), 2e-3, integ, scratch);
+      peak = std::max(peak, spring_energy(m, s));
+    }
+    EXPECT_LE(peak, e0 * (1 + 1e-3)) << msd::to_string(integ);  // never gains energy
+    end[k++] = spring_energy(m, s) / e0;
+  }
+  EXPECT_LT(end[0], 0.3);
+  EXPECT_GT(end[1], 0.99);
+}
+
+TEST(Implicit, Bdf2StaysBoundedFarBeyondTheExplicitStabilityLimitAndDampsWhatItCannotResolve) {
+  // dt = 0.2 s, omega dt about 5.6: L-stable, so the unresolved vibration decays.
+  EXPECT_LT(std::abs(run_oscillator(msd::Integrator::Bdf2, 0.2, 10.0)), 1e-4);
+}
+
+TEST(Implicit, Bdf2StartsWithABackwardEulerStepAndRestartsAfterAnotherIntegrator) {
+  const msd::Model m = oscillator();
+  msd::State a = msd::rest_state(m);
+  a.x(2, 3) += 1e-2;
+  msd::State b = a;
+  msd::Scratch sa, sb;
+  msd::step(m, a, at_rest(m), 2e-3, msd::Integrator::Bdf2, sa);
+  msd::step(m, b, at_rest(m), 2e-3, msd::Integrator::BackwardEuler, sb);
+  EXPECT_EQ((a.x - b.x).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(a.dt_prev, 2e-3);  // the history is kept ...
+  EXPECT_EQ(b.dt_prev, 0.0);   // ... only by BDF2
+  // The second BDF2 step uses it: it differs from a backward-Euler step.
+  msd::State a2 = a, b2 = a;
+  msd::step(m, a2, at_rest(m), 2e-3, msd::Integrator::Bdf2, sa);
+  msd::step(m, b2, at_rest(m), 2e-3, msd::Integrator::BackwardEuler, sb);
+  EXPECT_GT((a2.x - b2.x).cwiseAbs().maxCoeff(), 0.0);
+  // Another integrator's step drops it; the next BDF2 step is backward Euler.
+  msd::step(m, b2, at_rest(m), 2e-3, msd::Integrator::SymplecticEuler, sb);
+  EXPECT_EQ(b2.dt_prev, 0.0);
+  // (Fresh scratches: a kept factorisation would change the last bits.)
+  msd::State c = b2, d = b2;
+  msd::Scratch sc, sd;
+  msd::step(m, c, at_rest(m), 2e-3, msd::Integrator::Bdf2, sc);
+  msd::step(m, d, at_rest(m), 2e-3, msd::Integrator::BackwardEuler, sd);
+  EXPECT_EQ((c.x - d.x).cwiseAbs().maxCoeff(), 0.0);
+  // A step more than twice the last restarts it too.
+  msd::State e = c, f = c;
+  msd::Scratch se, sf;
+  EXPECT_EQ(c.dt_prev, 2e-3);
+  msd::step(m, e, at_rest(m), 5e-3, msd::Integrator::Bdf2, se);
+  msd::step(m, f, at_rest(m), 5e-3, msd::Integrator::BackwardEuler, sf);
+  EXPECT_EQ((e.x - f.x).cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(Implicit, Bdf2WithTheFullModelAndPlatensIsBitIdenticalOnAnyThreadCountAndEndsUninverted) {
+  // The block squeezed to -0.6 in 0.1 s and held, every term on, 5 ms steps.
+  auto run = [](int threads) {
+    const msd::Model m = block(kAll, threads, true);
+    msd::State s = msd::rest_state(m);
+    msd::Scratch scratch;
+    const double dt = 5e-3, speed = 0.6 * 0.04 / 0.1;
+    for (int k = 1; k <= 40; ++k) {
+      const double t = std::min(k * dt, 0.1);
+      const double vz = k * dt <= 0.1 ? -speed : 0.0;
+      msd::Controls c{{Vec3::Zero(), Vec3(0, 0, -speed * t)}, {Vec3::Zero(), Vec3(0, 0, vz)}};
+      msd::step(m, s, c, dt, msd::Integrator::Bdf2, scratch);
+      for (int node : m.groups[1].nodes) EXPECT_EQ(s.x(2, node), m.rest_positions(2, node) - speed * t);
+    }
+    for (const msd::Element& el : m.elements) {
+      const auto& n = el.nodes;
+      EXPECT_GT(msd::tet_signed_volume(s.x.col(n[0]), s.x.col(n[1]), s.x.col(n[2]), s.x.col(n[3])), 0.0);
+    }
+    return s.x;
+  };
+  const msd::Points one = run(1), again = run(1), two = run(2);
+  ASSERT_TRUE(one.allFinite());
+  EXPECT_EQ((one - again).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((one - two).cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(Implicit, ABdf2SolveThatDoesNotConvergeNamesItsIntegrator) {
+  msd::Model m = block(kAll, 1, true, 3.0e5);
+  m.newton.max_iterations = 1;
+  m.newton.max_step_cuts = 1;
+  m.newton.tolerance = 1e-14;
+  msd::State s = msd::rest_state(m);
+  msd::Scratch scratch;
+  msd::Controls c{{Vec3::Zero(), Vec3(0, 0, -0.02)}, {Vec3::Zero(), Vec3(0, 0, -2.0)}};
+  try {
+    msd::step(m, s, c, 1e-2, msd::Integrator::Bdf2, scratch);
+    FAIL() << "expected a SimulationFailure";
+  } catch (const msd::SimulationFailure& f) {
+    EXPECT_NE(std::string(f.what()).find("BDF2: Newton did not converge"), std::string::npos) << f.what();
+  }
+}

@@ -119,8 +119,13 @@ TEST(Step, NonFiniteValueStopsWithTimeStepAndElement) {
 }
 
 TEST(Step, IntegratorNames) {
-  for (auto i : {msd::Integrator::ExplicitEuler, msd::Integrator::SymplecticEuler, msd::Integrator::VelocityVerlet})
+  for (auto i : {msd::Integrator::ExplicitEuler, msd::Integrator::SymplecticEuler, msd::Integrator::VelocityVerlet,
+                 msd::Integrator::BackwardEuler, msd::Integrator::Bdf2})
     EXPECT_EQ(msd::parse_integrator(msd::to_string(i)), i);
+  EXPECT_EQ(msd::parse_integrator("bdf2"), msd::Integrator::Bdf2);
+  EXPECT_TRUE(msd::is_implicit(msd::Integrator::Bdf2));
+  EXPECT_TRUE(msd::is_implicit(msd::Integrator::BackwardEuler));
+  EXPECT_FALSE(msd::is_implicit(msd::Integrator::VelocityVerlet));
   EXPECT_EQ(msd::parse_integrator("semi_implicit_euler"), msd::Integrator::SymplecticEuler);
   EXPECT_THROW(msd::parse_integrator("rk4"), msd::Error);
 }

@@ -65,4 +65,15 @@ void assemble_system(const Model& model, const SystemLayout& layout, const Point
 /// model.newton.max_iterations.
 void step_backward_euler(const Model& model, State& state, const Controls& controls, double dt, Scratch& scratch);
 
+/// One BDF2 step (Integrator::Bdf2): the same Newton solve with the base
+///   x+ = a x - b x- + h v+,  M (v+ - (a v - b v-)) = h F(x+, v+),
+/// a = (1+w)^2/(1+2w), b = w^2/(1+2w), h = (1+w)/(1+2w) dt, w = dt / dt-
+/// (for equal steps a = 4/3, b = 1/3, h = 2/3 dt), from the state one step
+/// back kept in State::x_prev, v_prev, dt_prev, which it updates. A step
+/// without that history (the first, or after another integrator) or more
+/// than twice the last one is a backward-Euler step. Second order; A-stable
+/// on linear problems (and L-stable), so like backward Euler its step is
+/// chosen for accuracy, but it damps a resolved vibration far less.
+void step_bdf2(const Model& model, State& state, const Controls& controls, double dt, Scratch& scratch);
+
 }  // namespace msd

@@ -11,6 +11,10 @@
 //    One force evaluation per step: a+ is kept in the State for the next step.
 //  - Backward Euler (implicit, msd/integrate/implicit.hpp):
 //      v+ = v + dt a(x+, v+),  x+ = x + dt v+,  solved by Newton's method.
+//  - BDF2 (implicit, second order; the same Newton solve):
+//      y+ = 4/3 y - 1/3 y- + 2/3 dt F(y+) for y = (x, v), y- the state one
+//      step back (State::x_prev, v_prev); variable-step form when the last
+//      step had another length; a backward-Euler step where no history is.
 // Constrained components of kinematic-group nodes are set to the prescribed
 // position and velocity after each update; then surface nodes that entered a
 // rigid obstacle are moved out of it (msd/contact/rigid_obstacle.hpp).
@@ -22,10 +26,13 @@
 
 namespace msd {
 
-enum class Integrator { ExplicitEuler, SymplecticEuler, VelocityVerlet, BackwardEuler };
+enum class Integrator { ExplicitEuler, SymplecticEuler, VelocityVerlet, BackwardEuler, Bdf2 };
+
+/// Backward Euler and BDF2: Newton solves, msd::NewtonOptions apply.
+inline bool is_implicit(Integrator i) { return i == Integrator::BackwardEuler || i == Integrator::Bdf2; }
 
 /// Parses "explicit_euler", "symplectic_euler" (or "semi_implicit_euler"),
-/// "velocity_verlet", "backward_euler".
+/// "velocity_verlet", "backward_euler", "bdf2".
 Integrator parse_integrator(const std::string& name);
 std::string to_string(Integrator integrator);
 

@@ -214,6 +214,10 @@ struct State {
   long step = 0;       ///< steps taken
   Points a;            ///< last acceleration (velocity Verlet's memory)
   bool a_valid = false;
+  /// BDF2's memory: positions and velocities one step back and that step's
+  /// length (s); dt_prev = 0: none (the next BDF2 step is backward Euler).
+  Points x_prev, v_prev;
+  double dt_prev = 0.0;
   std::vector<HingeState> joints;  ///< per Model::joints
 };
 
