@@ -237,6 +237,7 @@ struct ImplicitWorkspace {
   bool refresh = false;   // the last chord step contracted weakly: factorise afresh
   double factor_h = 0.0;  // the h it was made for (M - h D - h^2 K)
   std::vector<HingeState> joints_end;  // the joints at the step's end
+  double force_floor = 0.0;  // N: residual forces below it are round-off (round_off_force)
 };
 
 namespace {
@@ -321,6 +322,24 @@ void fix_prescribed(const SystemLayout& L, Eigen::SparseMatrix<double>& A) {
     }
 }
 
+// The force that round-off leaves in a spring sum: a few hundred machine
+// epsilons of the largest force a spring exerts at unit strain, k_s L0. At
+// rest, with no load, the balance's largest term is itself round-off, and a
+// tolerance relative to it alone would ask for less than round-off can give.
+double round_off_force(const Model& model) {
+  double f = 0.0;
+  const ForcePlan& p = model.plan;
+  for (int e = 0; e < p.num_edges(); ++e)
+    f = std::max(f, p.edge_k_s[static_cast<size_t>(e)] * p.edge_rest[static_cast<size_t>(e)]);
+  return 1e3 * std::numeric_limits<double>::epsilon() * f;
+}
+
+// Newton's stopping bound on max |G_i|: the tolerance relative to the
+// balance's largest term, and never below the round-off force times h.
+double tolerance(const Model& model, double scale, double h, const ImplicitWorkspace& w) {
+  return std::max(model.newton.tolerance * scale, h * w.force_floor);
+}
+
 // What the last Newton solve reached.
 struct NewtonResult {
   bool converged = false;
@@ -334,13 +353,12 @@ struct NewtonResult {
 // leaves the iterate in w.x1, w.v1.
 NewtonResult newton(const Model& model, const State& s, const Controls& c, const std::vector<HingeState>& joints,
                     double time, double h, ImplicitWorkspace& w, Scratch& scratch) {
-  const double tol = model.newton.tolerance;
   NewtonResult out;
   w.v1 = s.v;
   positions_from_velocities(model, c, joints, h, w);
   double l2 = 0.0;
   out.residual = residual(model, s, c, joints, time, h, w, scratch, out.scale, l2);
-  while (!(out.residual <= tol * out.scale)) {
+  while (!(out.residual <= tolerance(model, out.scale, h, w))) {
     if (!std::isfinite(out.residual)) {
       out.why = "met non-finite forces";
       return out;
@@ -468,7 +486,7 @@ void advance(const Model& model, State& s, const Controls& c, const std::vector<
     std::ostringstream m;
     m << (bdf2 ? "BDF2" : "backward Euler") << ": Newton " << r.why << " after " << r.iterations << " iterations with the step cut "
       << cuts << " times to " << dt << " s (residual " << r.residual / h << " N, tolerance "
-      << model.newton.tolerance * r.scale / h << " N)";
+      << tolerance(model, r.scale, h, w) / h << " N)";
     throw SimulationFailure(m.str(), time, s.step + 1, -1, static_cast<int>(node));
   }
   Controls mid = c;
@@ -498,6 +516,7 @@ void step_implicit(const Model& model, State& state, const Controls& controls, d
   if (model.terms & kGravity) w.load += (s * model.gravity) * model.mass.transpose();
   scratch.last_newton_iterations = 0;
   scratch.last_step_cuts = 0;
+  w.force_floor = round_off_force(model);
   // The joints were stepped already (step_joints): the solve holds their
   // groups at the new states, halfway ones when the step is cut.
   w.joints_end = state.joints;
