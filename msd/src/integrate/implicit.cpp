@@ -349,12 +349,11 @@ struct NewtonResult {
 };
 
 // Newton's method on G(v+) = 0 for one step from `s` to time `time`, with
-// the base (w.x_base, w.v_base) and coefficient h set; starts from s.v and
-// leaves the iterate in w.x1, w.v1.
+// the base (w.x_base, w.v_base) and coefficient h set; starts from w.v1 (the
+// caller's guess) and leaves the iterate in w.x1, w.v1.
 NewtonResult newton(const Model& model, const State& s, const Controls& c, const std::vector<HingeState>& joints,
                     double time, double h, ImplicitWorkspace& w, Scratch& scratch) {
   NewtonResult out;
-  w.v1 = s.v;
   positions_from_velocities(model, c, joints, h, w);
   double l2 = 0.0;
   out.residual = residual(model, s, c, joints, time, h, w, scratch, out.scale, l2);
@@ -468,6 +467,12 @@ void advance(const Model& model, State& s, const Controls& c, const std::vector<
              const std::vector<HingeState>& to, double time, double dt, int cuts, bool bdf2,
              ImplicitWorkspace& w, Scratch& scratch) {
   const double h = set_base(s, dt, bdf2, w);
+  // The first iterate: the velocity now (backward Euler), or with BDF2's
+  // history the velocity extrapolated linearly to the step's end.
+  if (bdf2 && h != dt)
+    w.v1 = s.v + (dt / s.dt_prev) * (s.v - s.v_prev);
+  else
+    w.v1 = s.v;
   const NewtonResult r = newton(model, s, c, to, time, h, w, scratch);
   scratch.last_newton_iterations += r.iterations;
   if (r.converged) {
