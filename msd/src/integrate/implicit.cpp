@@ -233,11 +233,17 @@ struct ImplicitWorkspace {
   Eigen::VectorXd rhs, delta;
   State at;  // the iterate handed to evaluate_forces
   Points r_keep;  // the residual at the iterate while a chord step is tried
+  Points r_held;  // 3 x held: the held nodes' rows of G before they are zeroed
   bool factored = false;  // lu holds a factorisation (of an earlier iterate's Jacobian)
   bool refresh = false;   // the last chord step contracted weakly: factorise afresh
   double factor_h = 0.0;  // the h it was made for (M - h D - h^2 K)
   std::vector<HingeState> joints_end;  // the joints at the step's end
   double force_floor = 0.0;  // N: residual forces below it are round-off (round_off_force)
+  // Held contacts (hold_contacts): nodes on a stick obstacle's surface at the
+  // step's start move with it over the step and drop out of the solve.
+  std::vector<int> held, held_before;  // node ids (this solve, the last factorised one)
+  std::vector<Vec3> held_x, held_v, held_normal;  // end position, velocity, the obstacle's outward normal
+  std::vector<char> fixed;  // per degree of freedom: layout.fixed or held
 };
 
 namespace {
@@ -266,6 +272,75 @@ void positions_from_velocities(const Model& model, const Controls& c, const std:
                                double h, ImplicitWorkspace& w) {
   w.x1 = w.x_base + h * w.v1;
   apply_group_constraints(model, c, joints, w.x1, w.v1);
+  for (size_t k = 0; k < w.held.size(); ++k) {
+    w.x1.col(w.held[k]) = w.held_x[k];
+    w.v1.col(w.held[k]) = w.held_v[k];
+  }
+}
+
+// The contacts the solve holds (thesis 5.6.2's stick response, inside the
+// implicit system): a node of a stick obstacle's node list that lies on its
+// surface at the step's start - put there by the last step's projection -
+// moves with the obstacle to x + dt u, v+ = u (u the obstacle's velocity):
+// a prescribed node for this solve. Without it the solve lets such a node
+// sink into the obstacle and the projection afterwards pushes it back along
+// the normal, a displacement no force in the solve saw; at the implicit
+// integrators' long steps that crushed the tets under the indenter (issue
+// 16). The obstacle's placement at the step's start is its offset at the
+// end minus dt u. A node is on the surface when its depth is within 1e-9 of
+// the obstacle's size (the cylinder's radius, for a plane 1 m) of zero.
+// Frictionless obstacles are left to the projection after the step.
+void hold_contacts(const Model& model, const State& s, const Controls& c, double dt, ImplicitWorkspace& w) {
+  w.held.clear();
+  w.held_x.clear();
+  w.held_v.clear();
+  w.held_normal.clear();
+  w.fixed = w.layout.fixed;
+  for (size_t k = 0; k < model.obstacles.size(); ++k) {
+    const RigidObstacle& ob = model.obstacles[k];
+    if (ob.response != ContactResponse::Stick) continue;
+    const Vec3 u = k < c.obstacle_velocity.size() ? c.obstacle_velocity[k] : Vec3::Zero();
+    const Vec3 end = k < c.obstacle_offset.size() ? c.obstacle_offset[k] : Vec3::Zero();
+    const Vec3 start = end - dt * u;
+    const double tol = 1e-9 * (ob.shape == ObstacleShape::Cylinder ? ob.cylinder.radius : 1.0);
+    for (int n : ob.nodes) {
+      if (w.fixed[3 * static_cast<size_t>(n)]) continue;  // held by an earlier obstacle
+      const ContactGap g = obstacle_gap(ob, start, s.x.col(n));
+      if (g.depth < -tol) continue;
+      w.held.push_back(n);
+      w.held_x.emplace_back(Vec3(s.x.col(n)) + dt * u);
+      w.held_v.push_back(u);
+      w.held_normal.push_back(g.normal);
+      for (size_t a = 0; a < 3; ++a) w.fixed[3 * static_cast<size_t>(n) + a] = 1;
+    }
+  }
+}
+
+// Lets go of the held nodes the obstacle would have to pull: the force that
+// holds node i is G_i / h (G's row before it is zeroed, in w.r_held); a
+// contact can only push, along the obstacle's outward normal. Returns
+// whether any was let go.
+bool release_pulling_contacts(ImplicitWorkspace& w) {
+  bool any = false;
+  size_t kept = 0;
+  for (size_t k = 0; k < w.held.size(); ++k) {
+    const int n = w.held[k];
+    if (w.r_held.col(static_cast<Eigen::Index>(k)).dot(w.held_normal[k]) < 0.0) {
+      for (size_t a = 0; a < 3; ++a) w.fixed[3 * static_cast<size_t>(n) + a] = w.layout.fixed[3 * static_cast<size_t>(n) + a];
+      any = true;
+      continue;
+    }
+    w.held[kept] = n;
+    w.held_x[kept] = w.held_x[k];
+    w.held_v[kept] = w.held_v[k];
+    w.held_normal[kept] = w.held_normal[k];
+    ++kept;
+  }
+  w.held.resize(kept);
+  w.held_x.resize(kept);
+  w.held_v.resize(kept);
+  w.held_normal.resize(kept);
+  return any;
 }
 
 // G = M (v1 - v_base) - h (f(x1, v1) + load) into w.r (prescribed
@@ -299,9 +374,12 @@ double residual(const Model& model, const State& s, const Controls& c, const std
   w.r = (w.v1 - w.v_base) * model.mass.asDiagonal();
   scale = std::max({scale, w.r.cwiseAbs().maxCoeff(), h * f.cwiseAbs().maxCoeff(), h * w.load.cwiseAbs().maxCoeff()});
   w.r -= h * (f + w.load);
+  // The held nodes' rows: h times the force that holds them.
+  w.r_held.resize(3, static_cast<Eigen::Index>(w.held.size()));
+  for (size_t k = 0; k < w.held.size(); ++k) w.r_held.col(static_cast<Eigen::Index>(k)) = w.r.col(w.held[k]);
   double worst = 0.0, sum = 0.0;
   for (Eigen::Index i = 0; i < w.r.size(); ++i) {
-    if (w.layout.fixed[static_cast<size_t>(i)]) w.r.data()[i] = 0.0;
+    if (w.fixed[static_cast<size_t>(i)]) w.r.data()[i] = 0.0;
     worst = std::max(worst, std::abs(w.r.data()[i]));
     sum += w.r.data()[i] * w.r.data()[i];
   }
@@ -310,15 +388,15 @@ double residual(const Model& model, const State& s, const Controls& c, const std
   return worst;
 }
 
-// Prescribed rows and columns become identity rows (their update is zero).
-void fix_prescribed(const SystemLayout& L, Eigen::SparseMatrix<double>& A) {
+// Prescribed rows and columns (`fixed`) become identity rows (their update is zero).
+void fix_prescribed(const std::vector<char>& fixed, Eigen::SparseMatrix<double>& A) {
   double* values = A.valuePtr();
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
   for (int col = 0; col < A.cols(); ++col)
     for (int k = outer[col]; k < outer[col + 1]; ++k) {
       const int row = inner[k];
-      if (L.fixed[static_cast<size_t>(col)] || L.fixed[static_cast<size_t>(row)]) values[k] = row == col ? 1.0 : 0.0;
+      if (fixed[static_cast<size_t>(col)] || fixed[static_cast<size_t>(row)]) values[k] = row == col ? 1.0 : 0.0;
     }
 }
 
@@ -371,7 +449,7 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
     // Modified Newton: a factorisation kept from an earlier iterate or step
     // (same h) gives a chord step, kept when it at least halves |G|;
     // otherwise (or without one) the Jacobian is made afresh here.
-    if (model.newton.reuse_factorization && w.factored && w.factor_h == h && !w.refresh) {
+    if (model.newton.reuse_factorization && w.factored && w.factor_h == h && !w.refresh && w.held == w.held_before) {
       w.delta = w.lu.solve(w.rhs);
       w.v_trial = w.v1;
       w.r_keep = w.r;
@@ -393,9 +471,10 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
       positions_from_velocities(model, c, joints, h, w);
     }
     assemble_system(model, w.layout, w.x1, w.v1, joints, c, 1.0, -h, -h * h, w.A);
-    fix_prescribed(w.layout, w.A);
+    fix_prescribed(w.fixed, w.A);
     w.lu.factorize(w.A);
     ++scratch.factorizations;
+    w.held_before = w.held;
     w.factored = w.lu.info() == Eigen::Success;
     w.factor_h = h;
     w.refresh = false;
@@ -467,14 +546,22 @@ void advance(const Model& model, State& s, const Controls& c, const std::vector<
              const std::vector<HingeState>& to, double time, double dt, int cuts, bool bdf2,
              ImplicitWorkspace& w, Scratch& scratch) {
   const double h = set_base(s, dt, bdf2, w);
+  hold_contacts(model, s, c, dt, w);
   // The first iterate: the velocity now (backward Euler), or with BDF2's
   // history the velocity extrapolated linearly to the step's end.
   if (bdf2 && h != dt)
     w.v1 = s.v + (dt / s.dt_prev) * (s.v - s.v_prev);
   else
     w.v1 = s.v;
-  const NewtonResult r = newton(model, s, c, to, time, h, w, scratch);
+  NewtonResult r = newton(model, s, c, to, time, h, w, scratch);
   scratch.last_newton_iterations += r.iterations;
+  // A held node the obstacle would have to pull goes free and the solve is
+  // repeated from its solution (at most 8 times; what is still held then
+  // stays held for this step).
+  for (int pass = 0; r.converged && pass < 8 && release_pulling_contacts(w); ++pass) {
+    r = newton(model, s, c, to, time, h, w, scratch);
+    scratch.last_newton_iterations += r.iterations;
+  }
   if (r.converged) {
     if (bdf2) {
       s.x_prev.swap(s.x);

@@ -9,8 +9,12 @@
 // of a tet's vertices is an edge) and solved by Eigen's sparse LU (the volume
 // term is not a gradient, so the matrix is not symmetric), with a backtracking
 // line search on |G|. Prescribed components (kinematic groups) take their
-// values at t + dt and drop out of the system; rigid obstacles are resolved
-// after the solve, as in the explicit steppers (step.hpp). First order and
+// values at t + dt and drop out of the system. A node lying on a stick
+// obstacle's surface at the step's start is held by it: it moves with the
+// obstacle over the step and drops out too, and is let go (the solve
+// repeated) when holding it would take a pull. New contacts are resolved
+// after the solve, as in the explicit steppers (step.hpp); frictionless
+// obstacles only there. First order and
 // unconditionally stable for the linear terms: it damps the highest
 // frequencies instead of blowing up, so its step is chosen for accuracy,
 // not for the stiffest spring.
