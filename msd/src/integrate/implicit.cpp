@@ -103,6 +103,7 @@ SystemLayout make_system_layout(const Model& model) {
       L.unit_block.push_back(find_block(model, extra, u.a, u.b));
       L.unit_block.push_back(find_block(model, extra, u.b, u.a));
     }
+  L.block_nodes = std::move(block_nodes);
   L.fixed.assign(3 * static_cast<size_t>(n), 0);
   for (const KinematicGroup& g : model.groups)
     for (int node : g.nodes)
@@ -243,7 +244,11 @@ struct ImplicitWorkspace {
   // step's start move with it over the step and drop out of the solve.
   std::vector<int> held, held_before;  // node ids (this solve, the last factorised one)
   std::vector<Vec3> held_x, held_v, held_normal;  // end position, velocity, the obstacle's outward normal
-  std::vector<char> fixed;  // per degree of freedom: layout.fixed or held
+  std::vector<int> held_obstacle;  // the obstacle holding each
+  std::vector<char> held_slides;   // per held node: frictionless (only its normal motion held)
+  std::vector<int> sliding_index;  // per node: its index in `held` if held sliding, else -1
+  std::vector<char> held_taken;    // per node: held by some obstacle (hold_contacts' buffer)
+  std::vector<char> fixed;  // per degree of freedom: layout.fixed or held (stick)
 };
 
 namespace {
@@ -273,46 +278,112 @@ void positions_from_velocities(const Model& model, const Controls& c, const std:
   w.x1 = w.x_base + h * w.v1;
   apply_group_constraints(model, c, joints, w.x1, w.v1);
   for (size_t k = 0; k < w.held.size(); ++k) {
-    w.x1.col(w.held[k]) = w.held_x[k];
-    w.v1.col(w.held[k]) = w.held_v[k];
+    const int i = w.held[k];
+    if (w.held_slides[k]) {
+      const Vec3& nk = w.held_normal[k];
+      w.x1.col(i) += (w.held_x[k] - Vec3(w.x1.col(i))).dot(nk) * nk;
+      w.v1.col(i) += (w.held_v[k] - Vec3(w.v1.col(i))).dot(nk) * nk;
+    } else {
+      w.x1.col(i) = w.held_x[k];
+      w.v1.col(i) = w.held_v[k];
+    }
   }
 }
 
-// The contacts the solve holds (thesis 5.6.2's stick response, inside the
-// implicit system): a node of a stick obstacle's node list that lies on its
+// The contacts the solve holds (thesis 5.6.2's responses, inside the
+// implicit system): a node of an obstacle's node list that lies on its
 // surface at the step's start - put there by the last step's projection -
-// moves with the obstacle to x + dt u, v+ = u (u the obstacle's velocity):
-// a prescribed node for this solve. Without it the solve lets such a node
-// sink into the obstacle and the projection afterwards pushes it back along
-// the normal, a displacement no force in the solve saw; at the implicit
+// is held by it for this solve. On a stick obstacle it moves with it to
+// x + dt u, v+ = u (u the obstacle's velocity): a prescribed node. On a
+// frictionless one only its motion along the outward normal n is
+// prescribed, (x+ - x - dt u) . n = 0 and (v+ - u) . n = 0; its tangential
+// motion stays an unknown of the solve. Without the hold the solve lets such
+// a node sink into the obstacle and the projection afterwards pushes it back
+// along n, a displacement no force in the solve saw; at the implicit
 // integrators' long steps that crushed the tets under the indenter (issue
 // 16). The obstacle's placement at the step's start is its offset at the
 // end minus dt u. A node is on the surface when its depth is within 1e-9 of
 // the obstacle's size (the cylinder's radius, for a plane 1 m) of zero.
-// Frictionless obstacles are left to the projection after the step.
 void hold_contacts(const Model& model, const State& s, const Controls& c, double dt, ImplicitWorkspace& w) {
   w.held.clear();
   w.held_x.clear();
   w.held_v.clear();
   w.held_normal.clear();
+  w.held_obstacle.clear();
+  w.held_slides.clear();
   w.fixed = w.layout.fixed;
+  w.sliding_index.assign(static_cast<size_t>(model.num_nodes()), -1);
+  std::vector<char>& taken = w.held_taken;
+  taken.assign(static_cast<size_t>(model.num_nodes()), 0);
   for (size_t k = 0; k < model.obstacles.size(); ++k) {
     const RigidObstacle& ob = model.obstacles[k];
-    if (ob.response != ContactResponse::Stick) continue;
+    const bool slides = ob.response == ContactResponse::Frictionless;
     const Vec3 u = k < c.obstacle_velocity.size() ? c.obstacle_velocity[k] : Vec3::Zero();
     const Vec3 end = k < c.obstacle_offset.size() ? c.obstacle_offset[k] : Vec3::Zero();
     const Vec3 start = end - dt * u;
     const double tol = 1e-9 * (ob.shape == ObstacleShape::Cylinder ? ob.cylinder.radius : 1.0);
     for (int n : ob.nodes) {
-      if (w.fixed[3 * static_cast<size_t>(n)]) continue;  // held by an earlier obstacle
+      if (taken[static_cast<size_t>(n)]) continue;  // held by an earlier obstacle
       const ContactGap g = obstacle_gap(ob, start, s.x.col(n));
       if (g.depth < -tol) continue;
+      taken[static_cast<size_t>(n)] = 1;
+      if (slides)
+        w.sliding_index[static_cast<size_t>(n)] = static_cast<int>(w.held.size());
+      else
+        for (size_t a = 0; a < 3; ++a) w.fixed[3 * static_cast<size_t>(n) + a] = 1;
       w.held.push_back(n);
       w.held_x.emplace_back(Vec3(s.x.col(n)) + dt * u);
       w.held_v.push_back(u);
       w.held_normal.push_back(g.normal);
-      for (size_t a = 0; a < 3; ++a) w.fixed[3 * static_cast<size_t>(n) + a] = 1;
+      w.held_obstacle.push_back(static_cast<int>(k));
+      w.held_slides.push_back(slides ? 1 : 0);
     }
+  }
+}
+
+// The sliding held nodes' rows and columns of the Newton matrix in the basis
+// that keeps their normal update zero: with P = I - n n^T, a sliding node's
+// block row becomes P A_ij, its block column A_ji P, and its diagonal block
+// P A_ii P + n n^T (an identity's row along n). Its update is then
+// tangential, as its residual row P G_i is.
+void hold_sliding_in_matrix(const SystemLayout& L, const ImplicitWorkspace& w, Eigen::SparseMatrix<double>& A) {
+  bool any = false;
+  for (char c : w.held_slides) any = any || c;
+  if (!any) return;
+  double* values = A.valuePtr();
+  for (size_t b = 0; b < L.block_nodes.size(); ++b) {
+    const auto [r, c] = L.block_nodes[b];
+    const int hr = w.sliding_index[static_cast<size_t>(r)], hc = w.sliding_index[static_cast<size_t>(c)];
+    if (hr < 0 && hc < 0) continue;
+    Mat3 B;
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) B(i, j) = values[L.column_start[3 * b + static_cast<size_t>(j)] + i];
+    if (hr >= 0) {
+      const Vec3& nr = w.held_normal[static_cast<size_t>(hr)];
+      B -= nr * (nr.transpose() * B);
+    }
+    if (hc >= 0) {
+      const Vec3& nc = w.held_normal[static_cast<size_t>(hc)];
+      B -= (B * nc) * nc.transpose();
+    }
+    if (r == c) B += w.held_normal[static_cast<size_t>(hr)] * w.held_normal[static_cast<size_t>(hr)].transpose();
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) values[L.column_start[3 * b + static_cast<size_t>(j)] + i] = B(i, j);
+  }
+}
+
+// A sliding node keeps the normal component of its start on the surface;
+// its tangential slide of s moves it off a curved surface by about
+// s^2 / 2R. Each is put back on the surface at the step's end (the closest
+// point), so that it is found on it - and held - at the next step's start.
+void settle_sliding(const Model& model, const Controls& c, ImplicitWorkspace& w) {
+  for (size_t k = 0; k < w.held.size(); ++k) {
+    if (!w.held_slides[k]) continue;
+    const size_t o = static_cast<size_t>(w.held_obstacle[k]);
+    const RigidObstacle& ob = model.obstacles[o];
+    const Vec3 end = o < c.obstacle_offset.size() ? c.obstacle_offset[o] : Vec3::Zero();
+    const ContactGap g = obstacle_gap(ob, end, w.x1.col(w.held[k]));
+    w.x1.col(w.held[k]) += g.depth * g.normal;
   }
 }
 
@@ -327,19 +398,25 @@ bool release_pulling_contacts(ImplicitWorkspace& w) {
     const int n = w.held[k];
     if (w.r_held.col(static_cast<Eigen::Index>(k)).dot(w.held_normal[k]) < 0.0) {
       for (size_t a = 0; a < 3; ++a) w.fixed[3 * static_cast<size_t>(n) + a] = w.layout.fixed[3 * static_cast<size_t>(n) + a];
+      w.sliding_index[static_cast<size_t>(n)] = -1;
       any = true;
       continue;
     }
+    if (w.held_slides[k]) w.sliding_index[static_cast<size_t>(n)] = static_cast<int>(kept);
     w.held[kept] = n;
     w.held_x[kept] = w.held_x[k];
     w.held_v[kept] = w.held_v[k];
     w.held_normal[kept] = w.held_normal[k];
+    w.held_obstacle[kept] = w.held_obstacle[k];
+    w.held_slides[kept] = w.held_slides[k];
     ++kept;
   }
   w.held.resize(kept);
   w.held_x.resize(kept);
   w.held_v.resize(kept);
   w.held_normal.resize(kept);
+  w.held_obstacle.resize(kept);
+  w.held_slides.resize(kept);
   return any;
 }
 
@@ -374,9 +451,14 @@ double residual(const Model& model, const State& s, const Controls& c, const std
   w.r = (w.v1 - w.v_base) * model.mass.asDiagonal();
   scale = std::max({scale, w.r.cwiseAbs().maxCoeff(), h * f.cwiseAbs().maxCoeff(), h * w.load.cwiseAbs().maxCoeff()});
   w.r -= h * (f + w.load);
-  // The held nodes' rows: h times the force that holds them.
+  // The held nodes' rows: h times the force that holds them; a sliding
+  // node's normal part leaves G (its fixed components go below).
   w.r_held.resize(3, static_cast<Eigen::Index>(w.held.size()));
-  for (size_t k = 0; k < w.held.size(); ++k) w.r_held.col(static_cast<Eigen::Index>(k)) = w.r.col(w.held[k]);
+  for (size_t k = 0; k < w.held.size(); ++k) {
+    const int i = w.held[k];
+    w.r_held.col(static_cast<Eigen::Index>(k)) = w.r.col(i);
+    if (w.held_slides[k]) w.r.col(i) -= Vec3(w.r.col(i)).dot(w.held_normal[k]) * w.held_normal[k];
+  }
   double worst = 0.0, sum = 0.0;
   for (Eigen::Index i = 0; i < w.r.size(); ++i) {
     if (w.fixed[static_cast<size_t>(i)]) w.r.data()[i] = 0.0;
@@ -472,6 +554,7 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
     }
     assemble_system(model, w.layout, w.x1, w.v1, joints, c, 1.0, -h, -h * h, w.A);
     fix_prescribed(w.fixed, w.A);
+    hold_sliding_in_matrix(w.layout, w, w.A);
     w.lu.factorize(w.A);
     ++scratch.factorizations;
     w.held_before = w.held;
@@ -563,6 +646,7 @@ void advance(const Model& model, State& s, const Controls& c, const std::vector<
     scratch.last_newton_iterations += r.iterations;
   }
   if (r.converged) {
+    settle_sliding(model, c, w);
     if (bdf2) {
       s.x_prev.swap(s.x);
       s.v_prev.swap(s.v);

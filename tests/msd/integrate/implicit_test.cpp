@@ -581,7 +581,7 @@ namespace {
 
 // The block with its base pinned and a stick plane (normal -z: the object
 // fills z > 4 cm) resting on its top face.
-msd::Model block_under_a_plane() {
+msd::Model block_under_a_plane(msd::ContactResponse response = msd::ContactResponse::Stick) {
   msd::SampleMeshOptions o;
   o.spacing = 0.01;
   auto s = msd::mesh_closed_surface(msd::make_box(Vec3::Zero(), Vec3(0.03, 0.02, 0.04)), o, "block");
@@ -604,7 +604,7 @@ msd::Model block_under_a_plane() {
   ob.shape = msd::ObstacleShape::Plane;
   ob.plane.point = Vec3(0, 0, 0.04);
   ob.plane.normal = Vec3(0, 0, -1);
-  ob.response = msd::ContactResponse::Stick;
+  ob.response = response;
   mo.obstacles = {ob};
   return msd::build_model(s.mesh, mo);
 }
@@ -654,5 +654,36 @@ TEST(Implicit, AStickObstacleHoldsItsContactsInsideTheSolveAndLetsGoWhereItWould
     }
     for (int n : top) EXPECT_LT(s.x(2, n), 0.04 + z - 1e-3) << msd::to_string(integ) << " node " << n;
     EXPECT_TRUE(s.x.allFinite());
+  }
+}
+
+TEST(Implicit, AFrictionlessObstacleHoldsOnlyItsContactsNormalMotionAndTheyStayOnItsSurface) {
+  // As above with a frictionless plate: the held nodes follow it along z and
+  // slide along it - the block's bulge carries the top face's edges
+  // outwards - and a node that slid stays on the surface, held again at the
+  // next step. Withdrawn fast, they are let go.
+  for (msd::Integrator integ : {msd::Integrator::BackwardEuler, msd::Integrator::Bdf2}) {
+    const msd::Model m = block_under_a_plane(msd::ContactResponse::Frictionless);
+    msd::State s = msd::rest_state(m);
+    msd::Scratch scratch;
+    const double dt = 1e-2;
+    std::vector<int> top;
+    for (int i = 0; i < m.num_nodes(); ++i)
+      if (m.rest_positions(2, i) > 0.04 - 1e-9) top.push_back(i);
+    double z = 0.0;
+    for (int k = 1; k <= 10; ++k) {
+      z = -1e-4 * k;
+      msd::step(m, s, plate_at(m, z, -0.01), dt, integ, scratch);
+      for (int n : top)
+        EXPECT_NEAR(s.x(2, n), 0.04 + z, 1e-15) << msd::to_string(integ) << " node " << n << " step " << k;
+    }
+    double slide = 0.0;
+    for (int n : top) slide = std::max(slide, (s.x.col(n) - m.rest_positions.col(n)).head<2>().norm());
+    EXPECT_GT(slide, 1e-6) << msd::to_string(integ);
+    for (int k = 1; k <= 3; ++k) {
+      z += 1e-3;
+      msd::step(m, s, plate_at(m, z, 0.1), dt, integ, scratch);
+    }
+    for (int n : top) EXPECT_LT(s.x(2, n), 0.04 + z - 1e-3) << msd::to_string(integ) << " node " << n;
   }
 }

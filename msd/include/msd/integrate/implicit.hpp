@@ -9,12 +9,13 @@
 // of a tet's vertices is an edge) and solved by Eigen's sparse LU (the volume
 // term is not a gradient, so the matrix is not symmetric), with a backtracking
 // line search on |G|. Prescribed components (kinematic groups) take their
-// values at t + dt and drop out of the system. A node lying on a stick
-// obstacle's surface at the step's start is held by it: it moves with the
-// obstacle over the step and drops out too, and is let go (the solve
-// repeated) when holding it would take a pull. New contacts are resolved
-// after the solve, as in the explicit steppers (step.hpp); frictionless
-// obstacles only there. First order and
+// values at t + dt and drop out of the system. A node lying on an
+// obstacle's surface at the step's start is held by it: on a stick obstacle
+// it moves with the obstacle over the step and drops out too; on a
+// frictionless one only its motion along the normal does, its tangential
+// motion stays free. A held node is let go (the solve repeated) when holding
+// it would take a pull. New contacts are resolved after the solve, as in the
+// explicit steppers (step.hpp). First order and
 // unconditionally stable for the linear terms: it damps the highest
 // frequencies instead of blowing up, so its step is chosen for accuracy,
 // not for the stiffest spring.
@@ -43,6 +44,8 @@ struct SystemLayout {
   std::vector<int> unit_block;
   /// Per degree of freedom (3 n + axis): prescribed by a kinematic group.
   std::vector<char> fixed;
+  /// Per block: its (row, column) nodes.
+  std::vector<std::pair<int, int>> block_nodes;
 };
 
 SystemLayout make_system_layout(const Model& model);
