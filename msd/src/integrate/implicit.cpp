@@ -219,6 +219,16 @@ void assemble_system(const Model& model, const SystemLayout& L, const Points& x,
   if (c_k != 0.0) assemble_parts(model, L, x, joints, controls, c_k, values);
 }
 
+// A node an obstacle holds for one solve (hold_contacts).
+struct HeldContact {
+  int node = -1;
+  Vec3 x, v;       // its position and velocity at the step's end (all of them, or along `normal` if it slides)
+  Vec3 normal;     // the obstacle's outward normal at the step's start
+  int obstacle = -1;
+  bool slides = false;  // frictionless: only its normal motion is held
+  Vec3 row;        // its row of G before it is zeroed (residual): h times the force holding it
+};
+
 // The workspace of the implicit steps: layout, matrix, factorisation, vectors.
 struct ImplicitWorkspace {
   const Model* model = nullptr;  // the model the layout was made for
@@ -234,7 +244,6 @@ struct ImplicitWorkspace {
   Eigen::VectorXd rhs, delta;
   State at;  // the iterate handed to evaluate_forces
   Points r_keep;  // the residual at the iterate while a chord step is tried
-  Points r_held;  // 3 x held: the held nodes' rows of G before they are zeroed
   bool factored = false;  // lu holds a factorisation (of an earlier iterate's Jacobian)
   bool refresh = false;   // the last chord step contracted weakly: factorise afresh
   double factor_h = 0.0;  // the h it was made for (M - h D - h^2 K)
@@ -242,12 +251,9 @@ struct ImplicitWorkspace {
   double force_floor = 0.0;  // N: residual forces below it are round-off (round_off_force)
   // Held contacts (hold_contacts): nodes on a stick obstacle's surface at the
   // step's start move with it over the step and drop out of the solve.
-  std::vector<int> held, held_before;  // node ids (this solve, the last factorised one)
-  std::vector<Vec3> held_x, held_v, held_normal;  // end position, velocity, the obstacle's outward normal
-  std::vector<int> held_obstacle;  // the obstacle holding each
-  std::vector<char> held_slides;   // per held node: frictionless (only its normal motion held)
+  std::vector<HeldContact> held;
+  std::vector<int> held_before;    // the held nodes of the last factorisation
   std::vector<int> sliding_index;  // per node: its index in `held` if held sliding, else -1
-  std::vector<char> held_taken;    // per node: held by some obstacle (hold_contacts' buffer)
   std::vector<char> fixed;  // per degree of freedom: layout.fixed or held (stick)
 };
 
@@ -277,15 +283,13 @@ void positions_from_velocities(const Model& model, const Controls& c, const std:
                                double h, ImplicitWorkspace& w) {
   w.x1 = w.x_base + h * w.v1;
   apply_group_constraints(model, c, joints, w.x1, w.v1);
-  for (size_t k = 0; k < w.held.size(); ++k) {
-    const int i = w.held[k];
-    if (w.held_slides[k]) {
-      const Vec3& nk = w.held_normal[k];
-      w.x1.col(i) += (w.held_x[k] - Vec3(w.x1.col(i))).dot(nk) * nk;
-      w.v1.col(i) += (w.held_v[k] - Vec3(w.v1.col(i))).dot(nk) * nk;
+  for (const HeldContact& hc : w.held) {
+    if (hc.slides) {
+      w.x1.col(hc.node) += (hc.x - Vec3(w.x1.col(hc.node))).dot(hc.normal) * hc.normal;
+      w.v1.col(hc.node) += (hc.v - Vec3(w.v1.col(hc.node))).dot(hc.normal) * hc.normal;
     } else {
-      w.x1.col(i) = w.held_x[k];
-      w.v1.col(i) = w.held_v[k];
+      w.x1.col(hc.node) = hc.x;
+      w.v1.col(hc.node) = hc.v;
     }
   }
 }
@@ -306,15 +310,8 @@ void positions_from_velocities(const Model& model, const Controls& c, const std:
 // the obstacle's size (the cylinder's radius, for a plane 1 m) of zero.
 void hold_contacts(const Model& model, const State& s, const Controls& c, double dt, ImplicitWorkspace& w) {
   w.held.clear();
-  w.held_x.clear();
-  w.held_v.clear();
-  w.held_normal.clear();
-  w.held_obstacle.clear();
-  w.held_slides.clear();
   w.fixed = w.layout.fixed;
   w.sliding_index.assign(static_cast<size_t>(model.num_nodes()), -1);
-  std::vector<char>& taken = w.held_taken;
-  taken.assign(static_cast<size_t>(model.num_nodes()), 0);
   for (size_t k = 0; k < model.obstacles.size(); ++k) {
     const RigidObstacle& ob = model.obstacles[k];
     const bool slides = ob.response == ContactResponse::Frictionless;
@@ -323,20 +320,15 @@ void hold_contacts(const Model& model, const State& s, const Controls& c, double
     const Vec3 start = end - dt * u;
     const double tol = 1e-9 * (ob.shape == ObstacleShape::Cylinder ? ob.cylinder.radius : 1.0);
     for (int n : ob.nodes) {
-      if (taken[static_cast<size_t>(n)]) continue;  // held by an earlier obstacle
+      // Held by an earlier obstacle (an obstacle's nodes are never a group's: fixed means held).
+      if (w.fixed[3 * static_cast<size_t>(n)] || w.sliding_index[static_cast<size_t>(n)] >= 0) continue;
       const ContactGap g = obstacle_gap(ob, start, s.x.col(n));
       if (g.depth < -tol) continue;
-      taken[static_cast<size_t>(n)] = 1;
       if (slides)
         w.sliding_index[static_cast<size_t>(n)] = static_cast<int>(w.held.size());
       else
         for (size_t a = 0; a < 3; ++a) w.fixed[3 * static_cast<size_t>(n) + a] = 1;
-      w.held.push_back(n);
-      w.held_x.emplace_back(Vec3(s.x.col(n)) + dt * u);
-      w.held_v.push_back(u);
-      w.held_normal.push_back(g.normal);
-      w.held_obstacle.push_back(static_cast<int>(k));
-      w.held_slides.push_back(slides ? 1 : 0);
+      w.held.push_back({n, Vec3(s.x.col(n)) + dt * u, u, g.normal, static_cast<int>(k), slides, Vec3::Zero()});
     }
   }
 }
@@ -347,9 +339,7 @@ void hold_contacts(const Model& model, const State& s, const Controls& c, double
 // P A_ii P + n n^T (an identity's row along n). Its update is then
 // tangential, as its residual row P G_i is.
 void hold_sliding_in_matrix(const SystemLayout& L, const ImplicitWorkspace& w, Eigen::SparseMatrix<double>& A) {
-  bool any = false;
-  for (char c : w.held_slides) any = any || c;
-  if (!any) return;
+  if (std::none_of(w.held.begin(), w.held.end(), [](const HeldContact& hc) { return hc.slides; })) return;
   double* values = A.valuePtr();
   for (size_t b = 0; b < L.block_nodes.size(); ++b) {
     const auto [r, c] = L.block_nodes[b];
@@ -359,14 +349,14 @@ void hold_sliding_in_matrix(const SystemLayout& L, const ImplicitWorkspace& w, E
     for (int j = 0; j < 3; ++j)
       for (int i = 0; i < 3; ++i) B(i, j) = values[L.column_start[3 * b + static_cast<size_t>(j)] + i];
     if (hr >= 0) {
-      const Vec3& nr = w.held_normal[static_cast<size_t>(hr)];
+      const Vec3& nr = w.held[static_cast<size_t>(hr)].normal;
       B -= nr * (nr.transpose() * B);
     }
     if (hc >= 0) {
-      const Vec3& nc = w.held_normal[static_cast<size_t>(hc)];
+      const Vec3& nc = w.held[static_cast<size_t>(hc)].normal;
       B -= (B * nc) * nc.transpose();
     }
-    if (r == c) B += w.held_normal[static_cast<size_t>(hr)] * w.held_normal[static_cast<size_t>(hr)].transpose();
+    if (r == c) B += w.held[static_cast<size_t>(hr)].normal * w.held[static_cast<size_t>(hr)].normal.transpose();
     for (int j = 0; j < 3; ++j)
       for (int i = 0; i < 3; ++i) values[L.column_start[3 * b + static_cast<size_t>(j)] + i] = B(i, j);
   }
@@ -377,46 +367,33 @@ void hold_sliding_in_matrix(const SystemLayout& L, const ImplicitWorkspace& w, E
 // s^2 / 2R. Each is put back on the surface at the step's end (the closest
 // point), so that it is found on it - and held - at the next step's start.
 void settle_sliding(const Model& model, const Controls& c, ImplicitWorkspace& w) {
-  for (size_t k = 0; k < w.held.size(); ++k) {
-    if (!w.held_slides[k]) continue;
-    const size_t o = static_cast<size_t>(w.held_obstacle[k]);
-    const RigidObstacle& ob = model.obstacles[o];
+  for (const HeldContact& hc : w.held) {
+    if (!hc.slides) continue;
+    const size_t o = static_cast<size_t>(hc.obstacle);
     const Vec3 end = o < c.obstacle_offset.size() ? c.obstacle_offset[o] : Vec3::Zero();
-    const ContactGap g = obstacle_gap(ob, end, w.x1.col(w.held[k]));
-    w.x1.col(w.held[k]) += g.depth * g.normal;
+    const ContactGap g = obstacle_gap(model.obstacles[o], end, w.x1.col(hc.node));
+    w.x1.col(hc.node) += g.depth * g.normal;
   }
 }
 
 // Lets go of the held nodes the obstacle would have to pull: the force that
-// holds node i is G_i / h (G's row before it is zeroed, in w.r_held); a
+// holds node i is G_i / h (G's row before it is zeroed, HeldContact::row); a
 // contact can only push, along the obstacle's outward normal. Returns
 // whether any was let go.
 bool release_pulling_contacts(ImplicitWorkspace& w) {
-  bool any = false;
   size_t kept = 0;
-  for (size_t k = 0; k < w.held.size(); ++k) {
-    const int n = w.held[k];
-    if (w.r_held.col(static_cast<Eigen::Index>(k)).dot(w.held_normal[k]) < 0.0) {
-      for (size_t a = 0; a < 3; ++a) w.fixed[3 * static_cast<size_t>(n) + a] = w.layout.fixed[3 * static_cast<size_t>(n) + a];
-      w.sliding_index[static_cast<size_t>(n)] = -1;
-      any = true;
+  for (const HeldContact& hc : w.held) {
+    const size_t n = static_cast<size_t>(hc.node);
+    if (hc.row.dot(hc.normal) < 0.0) {
+      for (size_t a = 0; a < 3; ++a) w.fixed[3 * n + a] = w.layout.fixed[3 * n + a];
+      w.sliding_index[n] = -1;
       continue;
     }
-    if (w.held_slides[k]) w.sliding_index[static_cast<size_t>(n)] = static_cast<int>(kept);
-    w.held[kept] = n;
-    w.held_x[kept] = w.held_x[k];
-    w.held_v[kept] = w.held_v[k];
-    w.held_normal[kept] = w.held_normal[k];
-    w.held_obstacle[kept] = w.held_obstacle[k];
-    w.held_slides[kept] = w.held_slides[k];
-    ++kept;
+    if (hc.slides) w.sliding_index[n] = static_cast<int>(kept);
+    w.held[kept++] = hc;
   }
+  const bool any = kept < w.held.size();
   w.held.resize(kept);
-  w.held_x.resize(kept);
-  w.held_v.resize(kept);
-  w.held_normal.resize(kept);
-  w.held_obstacle.resize(kept);
-  w.held_slides.resize(kept);
   return any;
 }
 
@@ -453,11 +430,9 @@ double residual(const Model& model, const State& s, const Controls& c, const std
   w.r -= h * (f + w.load);
   // The held nodes' rows: h times the force that holds them; a sliding
   // node's normal part leaves G (its fixed components go below).
-  w.r_held.resize(3, static_cast<Eigen::Index>(w.held.size()));
-  for (size_t k = 0; k < w.held.size(); ++k) {
-    const int i = w.held[k];
-    w.r_held.col(static_cast<Eigen::Index>(k)) = w.r.col(i);
-    if (w.held_slides[k]) w.r.col(i) -= Vec3(w.r.col(i)).dot(w.held_normal[k]) * w.held_normal[k];
+  for (HeldContact& hc : w.held) {
+    hc.row = w.r.col(hc.node);
+    if (hc.slides) w.r.col(hc.node) -= hc.row.dot(hc.normal) * hc.normal;
   }
   double worst = 0.0, sum = 0.0;
   for (Eigen::Index i = 0; i < w.r.size(); ++i) {
@@ -492,6 +467,12 @@ double round_off_force(const Model& model) {
   for (int e = 0; e < p.num_edges(); ++e)
     f = std::max(f, p.edge_k_s[static_cast<size_t>(e)] * p.edge_rest[static_cast<size_t>(e)]);
   return 1e3 * std::numeric_limits<double>::epsilon() * f;
+}
+
+// Whether the solve holds the nodes the kept factorisation was made for.
+bool same_held_nodes(const ImplicitWorkspace& w) {
+  return std::equal(w.held.begin(), w.held.end(), w.held_before.begin(), w.held_before.end(),
+                    [](const HeldContact& hc, int node) { return hc.node == node; });
 }
 
 // Newton's stopping bound on max |G_i|: the tolerance relative to the
@@ -531,7 +512,7 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
     // Modified Newton: a factorisation kept from an earlier iterate or step
     // (same h) gives a chord step, kept when it at least halves |G|;
     // otherwise (or without one) the Jacobian is made afresh here.
-    if (model.newton.reuse_factorization && w.factored && w.factor_h == h && !w.refresh && w.held == w.held_before) {
+    if (model.newton.reuse_factorization && w.factored && w.factor_h == h && !w.refresh && same_held_nodes(w)) {
       w.delta = w.lu.solve(w.rhs);
       w.v_trial = w.v1;
       w.r_keep = w.r;
@@ -557,7 +538,8 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
     hold_sliding_in_matrix(w.layout, w, w.A);
     w.lu.factorize(w.A);
     ++scratch.factorizations;
-    w.held_before = w.held;
+    w.held_before.clear();
+    for (const HeldContact& hc : w.held) w.held_before.push_back(hc.node);
     w.factored = w.lu.info() == Eigen::Success;
     w.factor_h = h;
     w.refresh = false;
