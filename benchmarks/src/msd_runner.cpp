@@ -107,7 +107,8 @@ MsdProblem compile_msd(const Spec& spec) {
   o.gravity = l.gravity;
   o.nonlinear_threshold = ms.nonlinear_threshold;
   o.threads = ms.threads;
-  o.newton = {ms.newton_tolerance, ms.newton_max_iterations, ms.newton_max_step_cuts, ms.newton_reuse_factorization};
+  o.newton = {ms.newton_tolerance, ms.newton_max_iterations, ms.newton_max_step_cuts, ms.newton_reuse_factorization,
+              msd::parse_linear_solver(ms.newton_linear_solver)};
   o.reference_forces = ms.forces == "reference";
   o.region_materials.assign(1, make_material(spec));
   const msd::TetMesh& mesh = p.sample.mesh;

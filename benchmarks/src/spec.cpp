@@ -115,7 +115,7 @@ MsdSpec parse_msd(const Fields& f) {
   f.only({"constants", "k_s", "k_d", "k_r", "k_v", "stiffness_scale", "repulsion_factor",
           "volume_factor", "damping_time", "repulsion_floor", "mass_lumping", "terms", "nonlinear_threshold",
           "integrator", "dt", "calibration", "rtol", "atol", "threads", "forces", "newton_tolerance",
-          "newton_max_iterations", "newton_max_step_cuts", "newton_reuse_factorization"});
+          "newton_max_iterations", "newton_max_step_cuts", "newton_reuse_factorization", "newton_linear_solver"});
   MsdSpec m;
   m.constants = choice(f, "msd.constants");
   const bool raw = m.constants == "raw";
@@ -172,8 +172,10 @@ MsdSpec parse_msd(const Fields& f) {
     m.newton_max_iterations = static_cast<int>(integer(f, "msd.newton_max_iterations"));
     m.newton_max_step_cuts = static_cast<int>(integer(f, "msd.newton_max_step_cuts"));
     m.newton_reuse_factorization = tbio::read_flag(f, spec_parameter("msd.newton_reuse_factorization"));
+    m.newton_linear_solver = choice(f, "msd.newton_linear_solver");
   } else {
-    for (const char* k : {"newton_tolerance", "newton_max_iterations", "newton_max_step_cuts", "newton_reuse_factorization"})
+    for (const char* k : {"newton_tolerance", "newton_max_iterations", "newton_max_step_cuts", "newton_reuse_factorization",
+                          "newton_linear_solver"})
       if (f.has(k)) throw msd::Error(f.where(k) + "only meaningful with 'integrator: backward_euler' or 'bdf2'");
   }
   return m;

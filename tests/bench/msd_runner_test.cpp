@@ -141,6 +141,28 @@ TEST(MsdRunner, NewtonSettingsBelongToBackwardEulerOnly) {
   EXPECT_EQ(bench::parse_spec(text, "small.yaml").msd->newton_max_iterations, 7);
 }
 
+TEST(MsdRunner, TheLinearSolverIsReadForTheImplicitIntegratorsAndAnUnknownOneIsRefusedByName) {
+  std::string text = kSpec;
+  EXPECT_EQ(bench::parse_spec(text, "small.yaml").msd->newton_linear_solver, "sparse_lu");  // the default
+  text.replace(text.find("dt: 1.0e-4"), 10, "dt: 1.0e-2, integrator: bdf2, newton_linear_solver: symmetric_ldlt");
+  const bench::Spec spec = bench::parse_spec(text, "small.yaml");
+  EXPECT_EQ(spec.msd->newton_linear_solver, "symmetric_ldlt");
+  EXPECT_EQ(bench::compile_msd(spec).model.newton.linear_solver, msd::LinearSolver::symmetric_ldlt);
+  for (const std::string& bad : {std::string("dt: 1.0e-4, newton_linear_solver: symmetric_ldlt"),
+                                 std::string("dt: 1.0e-2, integrator: bdf2, newton_linear_solver: cholesky")}) {
+    text = kSpec;
+    text.replace(text.find("dt: 1.0e-4"), 10, bad);
+    try {
+      bench::parse_spec(text, "small.yaml");
+      FAIL() << "accepted: " << bad;
+    } catch (const msd::Error& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("small.yaml"), std::string::npos) << what;
+      EXPECT_NE(what.find("newton_linear_solver"), std::string::npos) << what;
+    }
+  }
+}
+
 TEST(MsdRunner, TheIndentationRunsWithTheImplicitIntegratorsAtTenMillisecondSteps) {
   // The shipped indentation at the quick tier's grid (h = 5 mm) with BDF2
   // and backward Euler at 10 ms. Before the solve held the nodes on the

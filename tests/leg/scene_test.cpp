@@ -237,6 +237,14 @@ TEST(LegScene, TheIntegratorAndItsNewtonSettingsAreReadAndMisuseIsRefused) {
   f = variant_of("drop", "dt: 2.0e-4", "dt: 2.0e-4\nintegrator: bdf2\nnewton: {max_iterations: 9}", dir + "/bdf2.yaml");
   EXPECT_EQ(leg::read_leg_scene(f).integrator, msd::Integrator::Bdf2);
   EXPECT_EQ(leg::read_leg_scene(f).model.newton.max_iterations, 9);
+  EXPECT_EQ(leg::read_leg_scene(f).model.newton.linear_solver, msd::LinearSolver::sparse_lu);  // the default
+  f = variant_of("drop", "dt: 2.0e-4", "dt: 2.0e-4\nintegrator: bdf2\nnewton: {linear_solver: symmetric_ldlt}",
+                 dir + "/ldlt.yaml");
+  EXPECT_EQ(leg::read_leg_scene(f).model.newton.linear_solver, msd::LinearSolver::symmetric_ldlt);
+  f = variant_of("drop", "dt: 2.0e-4", "dt: 2.0e-4\nintegrator: bdf2\nnewton: {linear_solver: qr}", dir + "/qr.yaml");
+  e = error_of(f);
+  EXPECT_NE(e.find("qr.yaml:"), std::string::npos) << e;
+  EXPECT_NE(e.find("linear_solver"), std::string::npos) << e;
   f = variant_of("drop", "dt: 2.0e-4", "dt: 2.0e-4\nintegrator: rk4", dir + "/rk4.yaml");
   e = error_of(f);
   EXPECT_NE(e.find("integrator"), std::string::npos) << e;

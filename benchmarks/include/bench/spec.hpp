@@ -73,6 +73,7 @@ struct MsdSpec {
   double newton_tolerance = 1e-8;
   int newton_max_iterations = 20, newton_max_step_cuts = 6;
   bool newton_reuse_factorization = true;  ///< modified Newton (msd::NewtonOptions)
+  std::string newton_linear_solver = "sparse_lu";  ///< sparse_lu | symmetric_ldlt (msd::LinearSolver)
 };
 
 /// Settings of the finite-element reference solver.

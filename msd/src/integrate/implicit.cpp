@@ -5,6 +5,7 @@
 #include "msd/integrate/step.hpp"
 #include "msd/mesh/tet_mesh.hpp"
 
+#include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 
 #include <algorithm>
@@ -236,7 +237,10 @@ struct ImplicitWorkspace {
   size_t strands = 0, muscles = 0;  // the parts the layout's extra blocks were made for
   SystemLayout layout;
   Eigen::SparseMatrix<double> A;
-  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;  // sparse_lu
+  Eigen::SparseMatrix<double> S;  // symmetric_ldlt: (A + A^T) / 2, its pattern fixed by the layout's
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
+  bool ldlt_analysed = false;
   Points x1, v1, v_trial, r, load;
   // The step's base: x+ = x_base + h v+ and M (v+ - v_base) = h F (backward
   // Euler: the state and h = dt; BDF2: its combination of two states).
@@ -244,7 +248,7 @@ struct ImplicitWorkspace {
   Eigen::VectorXd rhs, delta;
   State at;  // the iterate handed to evaluate_forces
   Points r_keep;  // the residual at the iterate while a chord step is tried
-  bool factored = false;  // lu holds a factorisation (of an earlier iterate's Jacobian)
+  bool factored = false;  // lu or ldlt holds a factorisation (of an earlier iterate's Jacobian)
   bool refresh = false;   // the last chord step contracted weakly: factorise afresh
   double factor_h = 0.0;  // the h it was made for (M - h D - h^2 K)
   std::vector<HingeState> joints_end;  // the joints at the step's end
@@ -267,6 +271,7 @@ ImplicitWorkspace& workspace(const Model& model, Scratch& scratch) {
     w.layout = make_system_layout(model);
     w.A = w.layout.pattern;
     w.lu.analyzePattern(w.A);
+    w.ldlt_analysed = false;
     w.factored = false;
     w.nodes = model.num_nodes();
     w.edges = model.plan.num_edges();
@@ -475,6 +480,33 @@ bool same_held_nodes(const ImplicitWorkspace& w) {
                     [](const HeldContact& hc, int node) { return hc.node == node; });
 }
 
+// Factorises w.A by the model's linear solver (NewtonOptions): A itself, or
+// its symmetric part (A + A^T)/2 - whose pattern is the layout's for every
+// factorisation, so its ordering is analysed once. Returns whether it worked.
+bool factorize(const Model& model, ImplicitWorkspace& w) {
+  if (model.newton.linear_solver == LinearSolver::sparse_lu) {
+    w.lu.factorize(w.A);
+    return w.lu.info() == Eigen::Success;
+  }
+  w.S = w.A.transpose();
+  w.S += w.A;
+  w.S *= 0.5;
+  if (!w.ldlt_analysed) {
+    w.ldlt.analyzePattern(w.S);
+    w.ldlt_analysed = true;
+  }
+  w.ldlt.factorize(w.S);
+  return w.ldlt.info() == Eigen::Success;
+}
+
+// w.delta = (the factorised matrix)^-1 w.rhs.
+void solve(const Model& model, ImplicitWorkspace& w) {
+  if (model.newton.linear_solver == LinearSolver::sparse_lu)
+    w.delta = w.lu.solve(w.rhs);
+  else
+    w.delta = w.ldlt.solve(w.rhs);
+}
+
 // Newton's stopping bound on max |G_i|: the tolerance relative to the
 // balance's largest term, and never below the round-off force times h.
 double tolerance(const Model& model, double scale, double h, const ImplicitWorkspace& w) {
@@ -513,7 +545,7 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
     // (same h) gives a chord step, kept when it at least halves |G|;
     // otherwise (or without one) the Jacobian is made afresh here.
     if (model.newton.reuse_factorization && w.factored && w.factor_h == h && !w.refresh && same_held_nodes(w)) {
-      w.delta = w.lu.solve(w.rhs);
+      solve(model, w);
       w.v_trial = w.v1;
       w.r_keep = w.r;
       w.v1 = w.v_trial + Eigen::Map<const Points>(w.delta.data(), 3, model.num_nodes());
@@ -523,7 +555,7 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
       if (trial_l2 <= 0.5 * l2) {
         // A weak contraction (worse than 1/10) would spend the iteration
         // budget: the next iteration factorises afresh.
-        w.refresh = trial_l2 > 0.1 * l2;
+        w.refresh = trial_l2 > (model.newton.linear_solver == LinearSolver::sparse_lu ? 0.1 : 0.5) * l2;
         out.residual = trial;
         out.scale = scale;
         l2 = trial_l2;
@@ -536,18 +568,17 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
     assemble_system(model, w.layout, w.x1, w.v1, joints, c, 1.0, -h, -h * h, w.A);
     fix_prescribed(w.fixed, w.A);
     hold_sliding_in_matrix(w.layout, w, w.A);
-    w.lu.factorize(w.A);
+    w.factored = factorize(model, w);
     ++scratch.factorizations;
     w.held_before.clear();
     for (const HeldContact& hc : w.held) w.held_before.push_back(hc.node);
-    w.factored = w.lu.info() == Eigen::Success;
     w.factor_h = h;
     w.refresh = false;
     if (!w.factored) {
       out.why = "met a singular matrix";
       return out;
     }
-    w.delta = w.lu.solve(w.rhs);
+    solve(model, w);
     // Backtracking on |G| (the exact Newton direction descends it): halve the
     // update until |G| decreases, at most 10 times.
     w.v_trial = w.v1;

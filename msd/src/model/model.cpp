@@ -26,6 +26,14 @@ std::string force_terms_to_string(unsigned terms) {
   return s;
 }
 
+const char* to_string(LinearSolver s) { return s == LinearSolver::sparse_lu ? "sparse_lu" : "symmetric_ldlt"; }
+
+LinearSolver parse_linear_solver(const std::string& name) {
+  if (name == "sparse_lu") return LinearSolver::sparse_lu;
+  if (name == "symmetric_ldlt") return LinearSolver::symmetric_ldlt;
+  throw Error("unknown linear solver '" + name + "' (expected sparse_lu or symmetric_ldlt)");
+}
+
 Model build_model(const TetMesh& mesh, const ModelOptions& options) {
   check_tet_mesh(mesh, "model mesh");
   Model model;

@@ -33,12 +33,27 @@ namespace msd {
 /// the same dt - and keeps that chord step when it at least halves |G|;
 /// otherwise it factorises the Jacobian at the iterate (full Newton with a
 /// line search). The converged steps meet the same tolerance either way.
+///
+/// `linear_solver` picks the factorisation of Newton's matrix
+/// A = M - h D - h^2 K: `sparse_lu` factorises A itself (Eigen's SparseLU,
+/// COLAMD ordering), exact Newton; `symmetric_ldlt` factorises its symmetric
+/// part (A + A^T)/2 (Eigen's SimplicialLDLT, AMD ordering), an approximate
+/// Newton whose convergence rate is set by A's asymmetry (the dampers'
+/// position derivatives and the non-conservative volume term), at a fraction
+/// of the cost (docs/msd-model.md section 5).
+enum class LinearSolver { sparse_lu, symmetric_ldlt };
+
 struct NewtonOptions {
   double tolerance = 1e-8;
   int max_iterations = 20;
   int max_step_cuts = 6;
   bool reuse_factorization = true;
+  LinearSolver linear_solver = LinearSolver::sparse_lu;
 };
+
+/// "sparse_lu" / "symmetric_ldlt"; parse_linear_solver throws msd::Error naming the choices.
+const char* to_string(LinearSolver s);
+LinearSolver parse_linear_solver(const std::string& name);
 
 /// Force terms; a model evaluates only those it was built with.
 enum ForceTerm : unsigned {
