@@ -553,8 +553,11 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
       double scale = 0.0, trial_l2 = 0.0;
       const double trial = residual(model, s, c, joints, time, h, w, scratch, scale, trial_l2);
       if (trial_l2 <= 0.5 * l2) {
-        // A weak contraction (worse than 1/10) would spend the iteration
-        // budget: the next iteration factorises afresh.
+        // With LU a weak contraction (worse than 1/10) would spend the
+        // iteration budget: the next iteration factorises afresh. The
+        // symmetric part's fresh factorisation contracts no faster than a
+        // kept one (its rate is A's asymmetry), so with LDLT only a chord
+        // step that stops halving |G| (below) makes a fresh one.
         w.refresh = trial_l2 > (model.newton.linear_solver == LinearSolver::sparse_lu ? 0.1 : 0.5) * l2;
         out.residual = trial;
         out.scale = scale;
@@ -579,8 +582,9 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
       return out;
     }
     solve(model, w);
-    // Backtracking on |G| (the exact Newton direction descends it): halve the
-    // update until |G| decreases, at most 10 times.
+    // Backtracking on |G| (the exact Newton direction descends it; the
+    // symmetric part's, near it, as a rule): halve the update until |G|
+    // decreases, at most 10 times.
     w.v_trial = w.v1;
     double alpha = 1.0;
     for (int ls = 0;; ++ls) {
