@@ -68,6 +68,12 @@ TEST(Suite, VariantsSetTheThesisConstantsOrTheMaterialsCalibration) {
   const bench::Spec cylinder = bench::load_spec(std::string(TISSUEBENCH_SPECS_DIR) + "/stability_uniaxial.yaml");
   ASSERT_EQ(cylinder.msd->integrator, "symplectic_euler");
   EXPECT_DOUBLE_EQ(bench::suite_variant(cylinder, "thesis", cal).msd->dt, cylinder.msd->dt);
+  // cvode has no step of its own (msd.dt is not read).
+  std::string text = cylinder.text;
+  text.replace(text.find("integrator: symplectic_euler"), 28, "integrator: cvode");
+  text.erase(text.find("  dt: 2.0e-4\n"), 13);
+  const bench::Spec cvode = bench::parse_spec(text, "cvode.yaml");
+  EXPECT_DOUBLE_EQ(bench::suite_variant(cvode, "thesis", cal).msd->dt, cvode.output.interval / 100.0);
   const bench::Spec calibrated = bench::suite_variant(spec, "calibrated", cal);
   EXPECT_NE(calibrated.msd->calibration.find("passive_muscle.yaml"), std::string::npos);
   EXPECT_NE(calibrated.msd->stiffness_scale, spec.msd->stiffness_scale);
