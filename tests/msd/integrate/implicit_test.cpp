@@ -534,19 +534,29 @@ TEST(Implicit, Bdf2StartsWithABackwardEulerStepAndRestartsAfterAnotherIntegrator
   EXPECT_EQ((e.x - f.x).cwiseAbs().maxCoeff(), 0.0);
 }
 
+namespace {
+
+// The platens of block(..., platens = true) at the end of step k of 5 ms:
+// the top squeezes the block to -0.6 in 0.1 s and holds it there.
+constexpr double kSqueezeDt = 5e-3, kSqueezeSpeed = 0.6 * 0.04 / 0.1;
+msd::Controls squeezed(int k) {
+  const double t = std::min(k * kSqueezeDt, 0.1);
+  const double vz = k * kSqueezeDt <= 0.1 ? -kSqueezeSpeed : 0.0;
+  return {{Vec3::Zero(), Vec3(0, 0, -kSqueezeSpeed * t)}, {Vec3::Zero(), Vec3(0, 0, vz)}};
+}
+
+}  // namespace
+
 TEST(Implicit, Bdf2WithTheFullModelAndPlatensIsBitIdenticalOnAnyThreadCountAndEndsUninverted) {
   // The block squeezed to -0.6 in 0.1 s and held, every term on, 5 ms steps.
   auto run = [](int threads) {
     const msd::Model m = block(kAll, threads, true);
     msd::State s = msd::rest_state(m);
     msd::Scratch scratch;
-    const double dt = 5e-3, speed = 0.6 * 0.04 / 0.1;
     for (int k = 1; k <= 40; ++k) {
-      const double t = std::min(k * dt, 0.1);
-      const double vz = k * dt <= 0.1 ? -speed : 0.0;
-      msd::Controls c{{Vec3::Zero(), Vec3(0, 0, -speed * t)}, {Vec3::Zero(), Vec3(0, 0, vz)}};
-      msd::step(m, s, c, dt, msd::Integrator::Bdf2, scratch);
-      for (int node : m.groups[1].nodes) EXPECT_EQ(s.x(2, node), m.rest_positions(2, node) - speed * t);
+      msd::step(m, s, squeezed(k), kSqueezeDt, msd::Integrator::Bdf2, scratch);
+      const double t = std::min(k * kSqueezeDt, 0.1);
+      for (int node : m.groups[1].nodes) EXPECT_EQ(s.x(2, node), m.rest_positions(2, node) - kSqueezeSpeed * t);
     }
     for (const msd::Element& el : m.elements) {
       const auto& n = el.nodes;
@@ -698,13 +708,7 @@ TEST(Implicit, TheSymmetricLdltSolverConvergesToTheStepsOfSparseLuWithTheFullMod
     m.newton.linear_solver = solver;
     msd::State s = msd::rest_state(m);
     msd::Scratch scratch;
-    const double dt = 5e-3, speed = 0.6 * 0.04 / 0.1;
-    for (int k = 1; k <= 40; ++k) {
-      const double t = std::min(k * dt, 0.1);
-      const double vz = k * dt <= 0.1 ? -speed : 0.0;
-      msd::Controls c{{Vec3::Zero(), Vec3(0, 0, -speed * t)}, {Vec3::Zero(), Vec3(0, 0, vz)}};
-      msd::step(m, s, c, dt, msd::Integrator::Bdf2, scratch);
-    }
+    for (int k = 1; k <= 40; ++k) msd::step(m, s, squeezed(k), kSqueezeDt, msd::Integrator::Bdf2, scratch);
     return Run{s.x, scratch.newton_iterations};
   };
   auto press = [](msd::LinearSolver solver) {
