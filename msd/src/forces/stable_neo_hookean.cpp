@@ -1,0 +1,123 @@
+#include "msd/forces/stable_neo_hookean.hpp"
+
+#include <Eigen/LU>
+
+#include <cmath>
+#include <string>
+
+namespace msd {
+
+namespace {
+
+// v^: the matrix with v^ w = v x w.
+Mat3 cross_matrix(const Vec3& v) {
+  Mat3 m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
+// dJ/dF = [f1 x f2, f2 x f0, f0 x f1].
+Mat3 det_gradient(const Mat3& F) {
+  Mat3 g;
+  g.col(0) = F.col(1).cross(F.col(2));
+  g.col(1) = F.col(2).cross(F.col(0));
+  g.col(2) = F.col(0).cross(F.col(1));
+  return g;
+}
+
+// The shape-function gradients as a 4 x 3 matrix: row i is G_i.
+Eigen::Matrix<double, 4, 3> shape_gradients(const Mat3& dm_inv) {
+  Eigen::Matrix<double, 4, 3> G;
+  G.bottomRows<3>() = dm_inv;
+  G.row(0) = -dm_inv.colwise().sum();
+  return G;
+}
+
+}  // namespace
+
+SnhConstants snh_constants(double youngs_modulus, double poisson_ratio, double scale) {
+  const double E = scale * youngs_modulus, nu = poisson_ratio;
+  if (!(E > 0.0) || !std::isfinite(E) || !(nu > -1.0 && nu < 0.5))
+    throw Error("stable neo-Hookean: needs E > 0 and nu in (-1, 0.5), got E = " + std::to_string(E) +
+                " Pa, nu = " + std::to_string(nu));
+  const double mu_l = E / (2.0 * (1.0 + nu));
+  const double lambda_l = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  SnhConstants c;
+  c.mu = 4.0 / 3.0 * mu_l;
+  c.lambda = lambda_l + 5.0 / 6.0 * mu_l;
+  // lambda / mu_L = 2 nu / (1 - 2 nu) + 5/6 > 0 for every nu in (-1, 0.5): alpha is finite.
+  c.alpha = 1.0 + 0.75 * c.mu / c.lambda;
+  return c;
+}
+
+double snh_energy_density(const Mat3& F, const SnhConstants& c) {
+  const double ic = F.squaredNorm(), j = F.determinant();
+  return 0.5 * c.mu * (ic - 3.0) + 0.5 * c.lambda * (j - c.alpha) * (j - c.alpha) - 0.5 * c.mu * std::log(ic + 1.0);
+}
+
+Mat3 snh_stress(const Mat3& F, const SnhConstants& c) {
+  const double ic = F.squaredNorm(), j = F.determinant();
+  return c.mu * (1.0 - 1.0 / (ic + 1.0)) * F + c.lambda * (j - c.alpha) * det_gradient(F);
+}
+
+Mat9 snh_stress_derivative(const Mat3& F, const SnhConstants& c) {
+  const double ic = F.squaredNorm(), j = F.determinant();
+  const Eigen::Map<const Eigen::Matrix<double, 9, 1>> f(F.data());
+  const Mat3 gm = det_gradient(F);
+  const Eigen::Map<const Eigen::Matrix<double, 9, 1>> g(gm.data());
+  Mat9 H = (c.mu * (1.0 - 1.0 / (ic + 1.0))) * Mat9::Identity();
+  H.noalias() += (2.0 * c.mu / ((ic + 1.0) * (ic + 1.0))) * f * f.transpose();
+  H.noalias() += c.lambda * g * g.transpose();
+  const double s = c.lambda * (j - c.alpha);
+  const Mat3 h0 = s * cross_matrix(F.col(0)), h1 = s * cross_matrix(F.col(1)), h2 = s * cross_matrix(F.col(2));
+  H.block<3, 3>(0, 3) -= h2;
+  H.block<3, 3>(0, 6) += h1;
+  H.block<3, 3>(3, 0) += h2;
+  H.block<3, 3>(3, 6) -= h0;
+  H.block<3, 3>(6, 0) -= h1;
+  H.block<3, 3>(6, 3) += h0;
+  return H;
+}
+
+Mat3 rest_shape_inverse(const Vec3 x[4]) {
+  Mat3 dm;
+  for (int k = 0; k < 3; ++k) dm.col(k) = x[k + 1] - x[0];
+  const double det = dm.determinant();
+  const double scale = dm.colwise().norm().prod();
+  if (!(std::abs(det) > 1e-12 * scale)) throw Error("stable neo-Hookean: a degenerate tet at rest (6 V = " + std::to_string(det) + ")");
+  return dm.inverse();
+}
+
+Mat3 deformation_gradient(const Vec3 x[4], const Mat3& dm_inv) {
+  Mat3 ds;
+  for (int k = 0; k < 3; ++k) ds.col(k) = x[k + 1] - x[0];
+  return ds * dm_inv;
+}
+
+double snh_element_energy(const Vec3 x[4], const Mat3& dm_inv, double rest_volume, const SnhConstants& c) {
+  return rest_volume * snh_energy_density(deformation_gradient(x, dm_inv), c);
+}
+
+void add_snh_forces(const Vec3 x[4], const Mat3& dm_inv, double rest_volume, const SnhConstants& c, Vec3 f[4]) {
+  const Mat3 P = snh_stress(deformation_gradient(x, dm_inv), c);
+  // [f1 f2 f3] = -V0 P D_m^-T; f0 balances them.
+  const Mat3 h = -rest_volume * P * dm_inv.transpose();
+  for (int k = 0; k < 3; ++k) {
+    f[k + 1] += h.col(k);
+    f[0] -= h.col(k);
+  }
+}
+
+void snh_force_jacobian(const Vec3 x[4], const Mat3& dm_inv, double rest_volume, const SnhConstants& c, Mat12& K) {
+  const Mat9 H = snh_stress_derivative(deformation_gradient(x, dm_inv), c);
+  const Eigen::Matrix<double, 4, 3> G = shape_gradients(dm_inv);
+  // B = d vec F / dx: F_ac depends on x_i's component a through G_i(c).
+  Eigen::Matrix<double, 9, 12> B = Eigen::Matrix<double, 9, 12>::Zero();
+  for (int i = 0; i < 4; ++i)
+    for (int col = 0; col < 3; ++col)
+      for (int a = 0; a < 3; ++a) B(a + 3 * col, 3 * i + a) = G(i, col);
+  const Eigen::Matrix<double, 9, 12> HB = H * B;
+  K.noalias() = -rest_volume * B.transpose() * HB;
+}
+
+}  // namespace msd
