@@ -81,6 +81,7 @@ msd::TissueMaterial make_material(const Spec& spec) {
     m.stiffness_scale = ms.stiffness_scale;
     m.repulsion_factor = ms.repulsion_factor;
     m.volume_factor = ms.volume_factor;
+    m.poisson_ratio = spec.material.poisson_ratio;
   }
   msd::check_material(m, spec.path + ": material");
   return m;

@@ -147,7 +147,7 @@ MsdSpec parse_msd(const Fields& f) {
   if (f.has("terms")) {
     m.terms = f.text_list("terms");
     for (const auto& t : m.terms)
-      one_of(f, "terms", t, {"springs", "dampers", "repulsion", "volume"});
+      one_of(f, "terms", t, {"springs", "dampers", "repulsion", "volume", "neo_hookean"});
   }
   if (f.has("nonlinear_threshold")) {
     // `off` (or `false`) is the default, 0; otherwise a fraction in (0, 1].

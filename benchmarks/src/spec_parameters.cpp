@@ -67,7 +67,7 @@ std::vector<Parameter> declare_model() {
       other("msd.calibration", Kind::Text, "", "none", "physical: the factors above and damping_time from a calibration file (relative to the spec's folder); not with them"),
       number("msd.repulsion_floor", "1", msd.repulsion_floor, Range::open(0, 1), "repulsion continues along its tangent below this fraction of x0"),
       choice("msd.mass_lumping", {"per_tet", "equal"}, msd.mass_lumping, "equal: the thesis' choice"),
-      other("msd.terms", Kind::List, "", "all", "only these are computed: springs, dampers, repulsion, volume"),
+      other("msd.terms", Kind::List, "", "all", "only these are computed: springs, dampers, repulsion, volume, neo_hookean (the continuum element: needs poisson_ratio)"),
       optional_number("msd.nonlinear_threshold", "1", Range{0.0, 1.0, false, true}, "off (or false), or repulsion/volume only in elements deformed past it", "off"),
       choice("msd.integrator", {"explicit_euler", "symplectic_euler", "semi_implicit_euler", "velocity_verlet", "backward_euler", "bdf2", "cvode"},
              msd.integrator, "backward_euler, bdf2: implicit (first, second order), Newton with exact Jacobians, for stiff scenes and large steps; cvode: SUNDIALS BDF, adaptive - the time-exact reference"),

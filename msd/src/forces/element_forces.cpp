@@ -4,6 +4,7 @@
 #include "msd/forces/edge_springs.hpp"
 #include "msd/forces/face_repulsion.hpp"
 #include "msd/forces/force_engine.hpp"
+#include "msd/forces/stable_neo_hookean.hpp"
 #include "msd/forces/volume_preservation.hpp"
 
 #include <algorithm>
@@ -21,6 +22,7 @@ inline bool one_element(const Model& model, const Element& el, const Vec3 x[4], 
     if (terms & kSprings) add_edge_springs(edges, el.rest_length, el.k.k_s, f);
     if (terms & kDampers) add_edge_dampers(edges, v, el.k.k_d, f);
   }
+  if (terms & kNeoHookean) add_snh_forces(x, el.dm_inv, el.rest_volume, el.snh, f);
   if (!(terms & (kRepulsion | kVolume))) return false;
   return add_nonlinear_element_forces(model, el, x, f);
 }
@@ -88,6 +90,7 @@ double conservative_energy(const Model& model, const Points& x) {
     if (model.terms & kSprings) u += edge_spring_energy(xe, el.rest_length, el.k.k_s);
     if (model.terms & kRepulsion)
       u += face_repulsion_energy(tet_frame(xe), el.rest_height, el.k.k_r, el.floor);
+    if (model.terms & kNeoHookean) u += snh_element_energy(xe, el.dm_inv, el.rest_volume, el.snh);
   }
   return u;
 }

@@ -3,6 +3,7 @@
 #include "msd/forces/edge_dampers.hpp"
 #include "msd/forces/edge_springs.hpp"
 #include "msd/forces/element_forces.hpp"
+#include "msd/forces/stable_neo_hookean.hpp"
 #include "msd/mesh/tet_mesh.hpp"
 
 #include <algorithm>
@@ -82,13 +83,14 @@ void edge_pass(const ForcePlan& p, bool springs, bool dampers, const double* x, 
   }
 }
 
-// Pass 2, one tet: the non-linear terms into its four corners; returns
-// whether they ran (thesis 5.8's threshold).
+// Pass 2, one tet: the continuum element and the non-linear terms into its
+// four corners; returns whether the non-linear terms ran (thesis 5.8's threshold).
 bool tet_terms(const Model& model, const Element& el, const Points& x, double* corner) {
   Vec3 xe[4];
   for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[i]);
   Vec3 f[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
-  const bool active = add_nonlinear_element_forces(model, el, xe, f);
+  if (model.terms & kNeoHookean) add_snh_forces(xe, el.dm_inv, el.rest_volume, el.snh, f);
+  const bool active = (model.terms & (kRepulsion | kVolume)) && add_nonlinear_element_forces(model, el, xe, f);
   for (int i = 0; i < 4; ++i)
     for (int c = 0; c < 3; ++c) corner[3 * i + c] = f[i][c];
   return active;
@@ -104,7 +106,7 @@ long compute_forces_fast(const Model& model, const Points& x, const Points& v, P
                 " - 1 nodes, the state " + std::to_string(n) + " (a model not made by build_model?)");
   const bool springs = model.terms & kSprings, dampers = model.terms & kDampers;
   const bool edges = (springs || dampers) && ne > 0;
-  const bool tets = (model.terms & (kRepulsion | kVolume)) && nt > 0;
+  const bool tets = (model.terms & (kRepulsion | kVolume | kNeoHookean)) && nt > 0;
   if (f.cols() != n) f.resize(3, n);
   if (edges && buffers.edge_force.cols() != ne) buffers.edge_force.resize(3, ne);
   if (tets && buffers.corner_force.cols() != 4 * nt) buffers.corner_force.resize(3, 4 * nt);

@@ -2,6 +2,7 @@
 
 #include "msd/forces/jacobians.hpp"
 #include "msd/forces/parts.hpp"
+#include "msd/forces/stable_neo_hookean.hpp"
 #include "msd/integrate/step.hpp"
 #include "msd/mesh/tet_mesh.hpp"
 
@@ -204,13 +205,23 @@ void assemble_system(const Model& model, const SystemLayout& L, const Points& x,
         if (c_d != 0.0) add_edge_blocks(values, L, n, e, a, b, dw, c_d);
       }
     }
-  if (c_k != 0.0 && (model.terms & (kRepulsion | kVolume))) {
-    Mat12 K;
+  const bool nonlinear = model.terms & (kRepulsion | kVolume), continuum = model.terms & kNeoHookean;
+  if (c_k != 0.0 && (nonlinear || continuum)) {
+    Mat12 K, Kc;
     for (size_t t = 0; t < model.elements.size(); ++t) {
       const Element& el = model.elements[t];
       Vec3 xe[4];
       for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[static_cast<size_t>(i)]);
-      if (!nonlinear_element_jacobian(model, el, xe, K)) continue;
+      const bool active = nonlinear && nonlinear_element_jacobian(model, el, xe, K);
+      if (continuum) {
+        snh_force_jacobian(xe, el.dm_inv, el.rest_volume, el.snh, Kc);
+        if (active)
+          K += Kc;
+        else
+          K = Kc;
+      } else if (!active) {
+        continue;
+      }
       for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j)
           add_block(values, L, L.tet_block[16 * t + 4 * static_cast<size_t>(i) + static_cast<size_t>(j)],
@@ -462,8 +473,9 @@ void fix_prescribed(const std::vector<char>& fixed, Eigen::SparseMatrix<double>&
     }
 }
 
-// The force that round-off leaves in a spring sum: a few hundred machine
-// epsilons of the largest force a spring exerts at unit strain, k_s L0. At
+// The force that round-off leaves in a spring sum (or the continuum
+// element's): a few hundred machine epsilons of the largest force a spring
+// exerts at unit strain, k_s L0. At
 // rest, with no load, the balance's largest term is itself round-off, and a
 // tolerance relative to it alone would ask for less than round-off can give.
 double round_off_force(const Model& model) {
@@ -471,6 +483,10 @@ double round_off_force(const Model& model) {
   const ForcePlan& p = model.plan;
   for (int e = 0; e < p.num_edges(); ++e)
     f = std::max(f, p.edge_k_s[static_cast<size_t>(e)] * p.edge_rest[static_cast<size_t>(e)]);
+  // The continuum element's: its moduli times a face area, (mu + lambda) V0^(2/3).
+  if (model.terms & kNeoHookean)
+    for (const Element& el : model.elements)
+      f = std::max(f, (el.snh.mu + el.snh.lambda) * std::cbrt(el.rest_volume * el.rest_volume));
   return 1e3 * std::numeric_limits<double>::epsilon() * f;
 }
 

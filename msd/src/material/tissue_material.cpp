@@ -35,6 +35,8 @@ void check_material(const TissueMaterial& m, const std::string& where) {
     finite_nonneg(m.damping_time, "damping_time");
     finite_nonneg(m.repulsion_factor, "repulsion_factor");
     finite_nonneg(m.volume_factor, "volume_factor");
+    if (m.poisson_ratio)
+      require(*m.poisson_ratio > -1.0 && *m.poisson_ratio < 0.5, where, "poisson_ratio", "in (-1, 0.5)", *m.poisson_ratio);
   }
 }
 

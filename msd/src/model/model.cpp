@@ -14,14 +14,15 @@ ForceTerm parse_force_term(const std::string& name) {
   if (name == "repulsion") return kRepulsion;
   if (name == "volume") return kVolume;
   if (name == "gravity") return kGravity;
+  if (name == "neo_hookean") return kNeoHookean;
   throw Error("unknown force term '" + name +
-              "' (expected springs, dampers, repulsion, volume or gravity)");
+              "' (expected springs, dampers, repulsion, volume, gravity or neo_hookean)");
 }
 
 std::string force_terms_to_string(unsigned terms) {
   std::string s;
-  const char* names[] = {"springs", "dampers", "repulsion", "volume", "gravity"};
-  for (int b = 0; b < 5; ++b)
+  const char* names[] = {"springs", "dampers", "repulsion", "volume", "gravity", "neo_hookean"};
+  for (int b = 0; b < 6; ++b)
     if (terms & (1u << b)) s += (s.empty() ? "" : ",") + std::string(names[b]);
   return s;
 }
@@ -83,6 +84,13 @@ Model build_model(const TetMesh& mesh, const ModelOptions& options) {
     for (int k = 0; k < 6; ++k) el.rest_length[k] = (x[kTetEdges[k][1]] - x[kTetEdges[k][0]]).norm();
     el.floor = mat.repulsion_floor;
     el.k = element_constants(mat, el.rest_volume, el.rest_length, el.rest_height);
+    if (options.terms & kNeoHookean) {
+      if (mat.mode != ConstantsMode::Physical || !mat.poisson_ratio)
+        throw Error("material of region " + std::to_string(r) +
+                    ": the neo_hookean term needs physical constants with a Poisson's ratio (youngs_modulus, poisson_ratio)");
+      el.dm_inv = rest_shape_inverse(x);
+      el.snh = snh_constants(mat.youngs_modulus, *mat.poisson_ratio, mat.stiffness_scale);
+    }
     const double m = mat.density * el.rest_volume;
     if (mat.lumping == MassLumping::PerTet) {
       for (int i = 0; i < 4; ++i) model.mass[el.nodes[i]] += 0.25 * m;

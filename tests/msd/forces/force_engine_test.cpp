@@ -55,6 +55,7 @@ msd::Model block(unsigned terms, double threshold, int threads) {
   soft.damping_time = 0.01;
   soft.repulsion_factor = 0.5;
   soft.volume_factor = 1.6;
+  soft.poisson_ratio = 0.45;  // the neo_hookean term's
   msd::TissueMaterial stiff = soft;
   stiff.youngs_modulus = 9000;
   msd::ModelOptions mo;
@@ -113,7 +114,7 @@ TEST(ForcePlan, EachEdgeOnceWithTheConstantsOfEveryTetThatSharesIt) {
 
 TEST(ForceEngine, EqualsTheReferenceLoopForEachTermAndAllTogether) {
   for (unsigned terms : {unsigned(msd::kSprings), unsigned(msd::kDampers), unsigned(msd::kRepulsion),
-                         unsigned(msd::kVolume), kAll}) {
+                         unsigned(msd::kVolume), unsigned(msd::kNeoHookean), kAll, kAll | msd::kNeoHookean}) {
     for (double threshold : {0.0, 0.7}) {
       SCOPED_TRACE(msd::force_terms_to_string(terms) + ", threshold " + std::to_string(threshold));
       const msd::Model m = block(terms, threshold, 1);
@@ -133,17 +134,20 @@ TEST(ForceEngine, EqualsTheReferenceLoopForEachTermAndAllTogether) {
 }
 
 TEST(ForceEngine, BitIdenticalForOneTwoAndThreeThreadsAndRepeatedCalls) {
-  msd::Points x, v, f1, again, f2, f3;
-  const msd::Model m1 = block(kAll, 0.7, 1), m2 = block(kAll, 0.7, 2), m3 = block(kAll, 0.7, 3);
-  deform(m1, 0.8, 0.002, x, v, 11);
-  msd::Scratch s;
-  const long a1 = msd::compute_forces_fast(m1, x, v, f1, s);
-  msd::compute_forces_fast(m1, x, v, again, s);
-  EXPECT_EQ(a1, msd::compute_forces_fast(m2, x, v, f2, s));
-  EXPECT_EQ(a1, msd::compute_forces_fast(m3, x, v, f3, s));
-  EXPECT_TRUE((f1.array() == again.array()).all());
-  EXPECT_TRUE((f1.array() == f2.array()).all());
-  EXPECT_TRUE((f1.array() == f3.array()).all());
+  for (unsigned terms : {kAll, kAll | msd::kNeoHookean}) {
+    SCOPED_TRACE(msd::force_terms_to_string(terms));
+    msd::Points x, v, f1, again, f2, f3;
+    const msd::Model m1 = block(terms, 0.7, 1), m2 = block(terms, 0.7, 2), m3 = block(terms, 0.7, 3);
+    deform(m1, 0.8, 0.002, x, v, 11);
+    msd::Scratch s;
+    const long a1 = msd::compute_forces_fast(m1, x, v, f1, s);
+    msd::compute_forces_fast(m1, x, v, again, s);
+    EXPECT_EQ(a1, msd::compute_forces_fast(m2, x, v, f2, s));
+    EXPECT_EQ(a1, msd::compute_forces_fast(m3, x, v, f3, s));
+    EXPECT_TRUE((f1.array() == again.array()).all());
+    EXPECT_TRUE((f1.array() == f2.array()).all());
+    EXPECT_TRUE((f1.array() == f3.array()).all());
+  }
 }
 
 TEST(ForceEngine, ZeroNetForceAndTorque) {

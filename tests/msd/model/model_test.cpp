@@ -75,4 +75,34 @@ TEST(Model, TermNames) {
   EXPECT_EQ(msd::parse_force_term("volume"), msd::kVolume);
   EXPECT_THROW(msd::parse_force_term("collisions"), msd::Error);
   EXPECT_EQ(msd::force_terms_to_string(msd::kSprings | msd::kVolume), "springs,volume");
+  EXPECT_EQ(msd::parse_force_term("neo_hookean"), msd::kNeoHookean);
+  EXPECT_EQ(msd::force_terms_to_string(msd::kNeoHookean | msd::kDampers), "dampers,neo_hookean");
+}
+
+TEST(Model, TheNeoHookeanTermNeedsPhysicalConstantsWithAPoissonsRatio) {
+  const auto s = block();
+  msd::ModelOptions o;
+  o.terms = msd::kNeoHookean | msd::kDampers;
+  o.region_materials = {material(msd::MassLumping::PerTet)};
+  const auto refused = [&](const std::string& what) {
+    try {
+      msd::build_model(s.mesh, o);
+      ADD_FAILURE() << "accepted: " << what;
+    } catch (const msd::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("region 0"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("oisson"), std::string::npos) << e.what();
+    }
+  };
+  refused("raw constants");
+  o.region_materials[0].mode = msd::ConstantsMode::Physical;
+  o.region_materials[0].youngs_modulus = 3000.0;
+  refused("no Poisson's ratio");
+  o.region_materials[0].poisson_ratio = 0.5;
+  refused("nu = 0.5");
+  o.region_materials[0].poisson_ratio = 0.45;
+  const msd::Model ok = msd::build_model(s.mesh, o);
+  const double mu_l = 3000.0 / (2 * 1.45);
+  EXPECT_NEAR(ok.elements[0].snh.mu, 4.0 / 3.0 * mu_l, 1e-9);
+  EXPECT_TRUE(ok.elements[0].dm_inv.allFinite());
+  EXPECT_GT(ok.elements[0].dm_inv.norm(), 0.0);
 }

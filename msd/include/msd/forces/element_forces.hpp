@@ -1,6 +1,7 @@
 // The element force loop: for every element, gather its four vertices once, add
 // the enabled terms (edge springs, edge dampers, face repulsion, volume
-// preservation - thesis eq. 5.4 plus eq. 5.5) and scatter into one force buffer.
+// preservation - thesis eq. 5.4 plus eq. 5.5 - and the continuum element of
+// stable_neo_hookean.hpp) and scatter into one force buffer.
 // Each term is its own function (edge_springs.hpp, ...); this loop only composes
 // them so a model pays for the terms it uses and nothing else.
 #pragma once
@@ -31,7 +32,8 @@ bool add_nonlinear_element_forces(const Model& model, const Element& el, const V
 /// its local vertex i.
 void element_forces(const Model& model, int e, const Points& x, const Points& v, Vec3 f[4]);
 
-/// Elastic energy of the conservative terms (springs, face repulsion) at x.
+/// Elastic energy of the conservative terms (springs, face repulsion, the
+/// neo-Hookean element) at x.
 double conservative_energy(const Model& model, const Points& x);
 
 /// Kinetic energy sum m |v|^2 / 2.

@@ -8,7 +8,8 @@
 //     with k_s, k_d summed over the tets sharing the edge - equal to the
 //     per-tet sum up to round-off because every tet sees the same rest length;
 //  2. tets (face repulsion and volume preservation with their equalising
-//     forces, thesis eq. 5.1-5.3, 5.5), once per tet into its four corners;
+//     forces, thesis eq. 5.1-5.3, 5.5, and the continuum element,
+//     stable_neo_hookean.hpp), once per tet into its four corners;
 //  3. nodes: each node's force gathered from its edges and corners in a fixed
 //     order.
 // Every pass writes only its own entries, so the passes run on `model.threads`

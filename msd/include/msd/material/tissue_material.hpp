@@ -29,6 +29,7 @@
 
 #include "msd/core/types.hpp"
 
+#include <optional>
 #include <string>
 
 namespace msd {
@@ -55,6 +56,10 @@ struct TissueMaterial {
   double stiffness_scale = 1.0;    ///< calibration factor on k_s, k_r, k_v
   double repulsion_factor = 0.0;   ///< k_r relative to the reference stiffness
   double volume_factor = 0.0;      ///< k_v relative to the reference stiffness
+  /// Poisson's ratio, in (-1, 0.5): read only by the continuum element (the
+  /// neo_hookean term, whose mu and lambda are E's, nu's and stiffness_scale's);
+  /// the lattice's own ratio is set by its geometry.
+  std::optional<double> poisson_ratio;
   // Both modes.
   double repulsion_floor = 0.01;   ///< tangent continuation below floor * x0
 };
@@ -64,7 +69,7 @@ inline constexpr double kLatticeStiffnessFactor = 5.0 / 6.0;
 
 /// Throws msd::Error naming `where` and the field if a constant is unphysical
 /// (density <= 0, negative constants, E <= 0 in physical mode, floor not in
-/// (0, 1), non-finite values).
+/// (0, 1), a Poisson's ratio given outside (-1, 0.5), non-finite values).
 void check_material(const TissueMaterial& m, const std::string& where);
 
 /// Per-element constants of one tet from its rest geometry.

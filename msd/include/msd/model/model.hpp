@@ -8,6 +8,7 @@
 #include "msd/contact/self_contact.hpp"
 #include "msd/core/types.hpp"
 #include "msd/forces/muscle_units.hpp"
+#include "msd/forces/stable_neo_hookean.hpp"
 #include "msd/material/tissue_material.hpp"
 #include "msd/mesh/tet_mesh.hpp"
 #include "msd/skeleton/hinge.hpp"
@@ -62,9 +63,13 @@ enum ForceTerm : unsigned {
   kRepulsion = 1u << 2,  ///< face repulsion + equalisation, k_r (eq. 5.1-5.4)
   kVolume = 1u << 3,     ///< volume preservation + equalisation, k_v (eq. 5.5)
   kGravity = 1u << 4,    ///< uniform gravity on every node
+  /// The stable neo-Hookean continuum element on every tet
+  /// (msd/forces/stable_neo_hookean.hpp): not a thesis term - the model
+  /// ladder's continuum rung, from the material's E and Poisson's ratio.
+  kNeoHookean = 1u << 5,
 };
 
-/// Parses "springs", "dampers", "repulsion", "volume", "gravity".
+/// Parses "springs", "dampers", "repulsion", "volume", "gravity", "neo_hookean".
 ForceTerm parse_force_term(const std::string& name);
 std::string force_terms_to_string(unsigned terms);
 
@@ -77,6 +82,10 @@ struct Element {
   double rest_height[4];   ///< vertex i over the plane of its opposite face
   double floor = 0.01;     ///< repulsion tangent continuation (fraction of x0)
   ElementConstants k;
+  /// The continuum element's rest data (kNeoHookean only; else zero):
+  /// D_m^-1 and the energy's constants.
+  Mat3 dm_inv{Mat3::Zero()};
+  SnhConstants snh{};
 };
 
 /// The element terms laid out for the fast force evaluation
