@@ -111,6 +111,11 @@ MsdProblem compile_msd(const Spec& spec) {
   o.newton = {ms.newton_tolerance, ms.newton_max_iterations, ms.newton_max_step_cuts, ms.newton_reuse_factorization,
               msd::parse_linear_solver(ms.newton_linear_solver)};
   o.reference_forces = ms.forces == "reference";
+  if (ms.continuum_volume == "per_cube") {
+    if (p.sample.info.tet_cube_id.size() != p.sample.mesh.tets.size())
+      throw msd::Error(spec.path + ": msd.continuum_volume: per_cube needs the lattice's cubes, and this mesh has none");
+    o.volume_group = p.sample.info.tet_cube_id;
+  }
   o.region_materials.assign(1, make_material(spec));
   const msd::TetMesh& mesh = p.sample.mesh;
   const Eigen::Vector3d lo = mesh.nodes.rowwise().minCoeff(), hi = mesh.nodes.rowwise().maxCoeff();
@@ -380,6 +385,7 @@ RunMeta msd_meta(const Spec& spec, const MsdProblem& p) {
                                             std::to_string(ms.atol) + " m)"
                                       : msd::to_string(p.stepping.integrator)},
                {"mass_lumping", ms.mass_lumping},
+               {"continuum_volume", p.model.terms & msd::kNeoHookean ? ms.continuum_volume : "none"},
                {"mesh_rule", spec.mesh->rule},
                {"test", test_label(spec.loading.type, spec.loading.platens)}};
   if (!spec.msd->calibration.empty()) meta.text.emplace_back("calibration", spec.msd->calibration);

@@ -6,6 +6,7 @@
 #include "msd/core/types.hpp"
 #include "msd/io/input_file.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -115,7 +116,8 @@ MsdSpec parse_msd(const Fields& f) {
   f.only({"constants", "k_s", "k_d", "k_r", "k_v", "stiffness_scale", "repulsion_factor",
           "volume_factor", "damping_time", "repulsion_floor", "mass_lumping", "terms", "nonlinear_threshold",
           "integrator", "dt", "calibration", "rtol", "atol", "threads", "forces", "newton_tolerance",
-          "newton_max_iterations", "newton_max_step_cuts", "newton_reuse_factorization", "newton_linear_solver"});
+          "newton_max_iterations", "newton_max_step_cuts", "newton_reuse_factorization", "newton_linear_solver",
+          "continuum_volume"});
   MsdSpec m;
   m.constants = choice(f, "msd.constants");
   const bool raw = m.constants == "raw";
@@ -149,6 +151,9 @@ MsdSpec parse_msd(const Fields& f) {
     for (const auto& t : m.terms)
       one_of(f, "terms", t, {"springs", "dampers", "repulsion", "volume", "neo_hookean"});
   }
+  m.continuum_volume = choice(f, "msd.continuum_volume");
+  if (f.has("continuum_volume") && std::find(m.terms.begin(), m.terms.end(), "neo_hookean") == m.terms.end())
+    throw msd::Error(f.where("continuum_volume") + "only meaningful with the neo_hookean term in 'terms'");
   if (f.has("nonlinear_threshold")) {
     // `off` (or `false`) is the default, 0; otherwise a fraction in (0, 1].
     const YAML::Node n = f.node()["nonlinear_threshold"];
@@ -362,6 +367,12 @@ Spec parse_spec(const std::string& text, const std::string& source) {
                      " s: use at most " + tbio::json_number(end / 10.0) + " s");
   if (s.msd && s.msd->constants == "physical" && !s.material.youngs_modulus)
     throw msd::Error(f.where("material") + "youngs_modulus is required for 'msd.constants: physical'");
+  if (s.msd && std::find(s.msd->terms.begin(), s.msd->terms.end(), "neo_hookean") != s.msd->terms.end()) {
+    if (s.msd->constants != "physical")
+      throw msd::Error(f.section("msd").where("terms") + "the neo_hookean term needs 'constants: physical' (E and Poisson's ratio)");
+    if (!s.material.poisson_ratio)
+      throw msd::Error(f.where("material") + "poisson_ratio is required for the msd term neo_hookean");
+  }
   return s;
 }
 

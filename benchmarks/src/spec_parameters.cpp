@@ -76,6 +76,7 @@ std::vector<Parameter> declare_model() {
       integer("msd.newton_max_step_cuts", msd.newton_max_step_cuts, Range::closed(0, 30), "backward_euler and bdf2 only: halvings of a step whose Newton solve failed before the run fails"),
       flag("msd.newton_reuse_factorization", msd.newton_reuse_factorization, "backward_euler and bdf2 only: modified Newton - try an earlier step's LU factorisation first (false: factorise every iteration)"),
       choice("msd.newton_linear_solver", {"sparse_lu", "symmetric_ldlt"}, msd.newton_linear_solver, "backward_euler and bdf2 only: sparse_lu factorises Newton's matrix (exact Newton); symmetric_ldlt its symmetric part (approximate Newton, cheaper factorisations)"),
+      choice("msd.continuum_volume", {"per_tet", "per_cube"}, msd.continuum_volume, "the neo_hookean term's volume ratio: each tet's own, or one per cube of the lattice (mean dilatation: no locking near nu = 0.5)"),
       integer("msd.threads", msd.threads, Range::closed(1, 256), "threads of the force evaluation; the results are bit-identical for every count"),
       choice("msd.forces", {"engine", "reference"}, msd.forces, "engine: each edge once, threaded; reference: the per-tet loop (same forces up to round-off)"),
       number("msd.dt", "s", std::nullopt, positive, "time step; required by the fixed-step integrators, not with cvode"),

@@ -163,6 +163,41 @@ TEST(MsdRunner, TheLinearSolverIsReadForTheImplicitIntegratorsAndAnUnknownOneIsR
   }
 }
 
+TEST(MsdRunner, TheNeoHookeanTermAndItsCubeVolumesAreReadAndMisuseIsRefusedByName) {
+  std::string text = kSpec;
+  text.replace(text.find("youngs_modulus: 5000"), 20, "youngs_modulus: 5000, poisson_ratio: 0.45");
+  text.replace(text.find("dt: 1.0e-4"), 10, "dt: 1.0e-2, integrator: bdf2, terms: [neo_hookean, dampers], continuum_volume: per_cube");
+  const bench::Spec spec = bench::parse_spec(text, "small.yaml");
+  EXPECT_EQ(spec.msd->continuum_volume, "per_cube");
+  const bench::MsdProblem p = bench::compile_msd(spec);
+  EXPECT_EQ(p.model.terms, unsigned(msd::kNeoHookean | msd::kDampers));
+  EXPECT_EQ(p.model.volume_groups.size(), 2 * 2 * 4);
+  EXPECT_EQ(bench::compile_msd(bench::parse_spec(kSpec, "small.yaml")).model.volume_groups.size(), 0);
+  testing_support::TempDir dir("runner_snh");
+  const bench::RunSummary s = bench::run_msd(spec, dir.file("snh.h5"));
+  ASSERT_TRUE(s.complete) << s.failure;
+  const bench::Results r = bench::read_results(dir.file("snh.h5"));
+  EXPECT_EQ(r.meta.at("continuum_volume"), "per_cube");
+  EXPECT_EQ(r.meta.at("terms"), "dampers,neo_hookean");
+  // Compressed 10 % and stretched 10 %: the stress follows the strain's sign.
+  EXPECT_GT(r.series.at("nominal_stress").back(), 0.0);
+  for (const auto& [bad, field] : std::vector<std::pair<std::string, std::string>>{
+           {"terms: [springs, dampers], continuum_volume: per_cube", "continuum_volume"},
+           {"terms: [neo_hookean], continuum_volume: per_node", "continuum_volume"},
+           {"terms: [neo_hookean, dampers]", "poisson_ratio"}}) {
+    text = kSpec;
+    text.replace(text.find("dt: 1.0e-4"), 10, "dt: 1.0e-4, " + bad);
+    try {
+      bench::parse_spec(text, "small.yaml");
+      ADD_FAILURE() << "accepted: " << bad;
+    } catch (const msd::Error& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("small.yaml"), std::string::npos) << what;
+      EXPECT_NE(what.find(field), std::string::npos) << what;
+    }
+  }
+}
+
 TEST(MsdRunner, TheIndentationRunsWithTheImplicitIntegratorsAtTenMillisecondSteps) {
   // The shipped indentation at the quick tier's grid (h = 5 mm) with BDF2
   // and backward Euler at 10 ms. Before the solve held the nodes on the

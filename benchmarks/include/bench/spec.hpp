@@ -74,6 +74,7 @@ struct MsdSpec {
   int newton_max_iterations = 20, newton_max_step_cuts = 6;
   bool newton_reuse_factorization = true;  ///< modified Newton (msd::NewtonOptions)
   std::string newton_linear_solver = "sparse_lu";  ///< sparse_lu | symmetric_ldlt (msd::LinearSolver)
+  std::string continuum_volume = "per_tet";  ///< per_tet | per_cube: the neo_hookean term's volume ratio (per cube: mean dilatation)
 };
 
 /// Settings of the finite-element reference solver.

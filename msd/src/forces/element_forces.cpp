@@ -7,22 +7,25 @@
 #include "msd/forces/stable_neo_hookean.hpp"
 #include "msd/forces/volume_preservation.hpp"
 
+#include <vector>
+
 #include <algorithm>
 
 namespace msd {
 
 namespace {
 
-// Forces of one element; returns whether its non-linear terms ran.
-inline bool one_element(const Model& model, const Element& el, const Vec3 x[4], const Vec3 v[4],
-                        Vec3 f[4]) {
+// Forces of element t; returns whether its non-linear terms ran.
+inline bool one_element(const Model& model, size_t t, const Vec3 x[4], const Vec3 v[4],
+                        const std::vector<double>& group_pressure, Vec3 f[4]) {
+  const Element& el = model.elements[t];
   const unsigned terms = model.terms;
   if (terms & (kSprings | kDampers)) {
     const EdgeFrame edges = edge_frame(x);
     if (terms & kSprings) add_edge_springs(edges, el.rest_length, el.k.k_s, f);
     if (terms & kDampers) add_edge_dampers(edges, v, el.k.k_d, f);
   }
-  if (terms & kNeoHookean) add_snh_forces(x, el.dm_inv, el.rest_volume, el.snh, f);
+  if (terms & kNeoHookean) add_continuum_element_forces(model, t, x, group_pressure, f);
   if (!(terms & (kRepulsion | kVolume))) return false;
   return add_nonlinear_element_forces(model, el, x, f);
 }
@@ -50,17 +53,44 @@ bool add_nonlinear_element_forces(const Model& model, const Element& el, const V
   return true;
 }
 
+double volume_group_pressure(const Model& model, int g, const Points& x) {
+  const VolumeGroups& G = model.volume_groups;
+  double volume = 0.0;
+  for (int q = G.tet_offset[static_cast<size_t>(g)]; q < G.tet_offset[static_cast<size_t>(g) + 1]; ++q) {
+    const Element& el = model.elements[static_cast<size_t>(G.tets[static_cast<size_t>(q)])];
+    Vec3 xe[4];
+    for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[static_cast<size_t>(i)]);
+    volume += el.rest_volume * deformation_gradient(xe, el.dm_inv).determinant();
+  }
+  const Element& first = model.elements[static_cast<size_t>(G.tets[static_cast<size_t>(G.tet_offset[static_cast<size_t>(g)])])];
+  return snh_pressure(volume / G.rest_volume[static_cast<size_t>(g)], first.snh);
+}
+
+void add_continuum_element_forces(const Model& model, size_t t, const Vec3 x[4],
+                                  const std::vector<double>& group_pressure, Vec3 f[4]) {
+  const Element& el = model.elements[t];
+  if (model.volume_groups.empty())
+    add_snh_forces(x, el.dm_inv, el.rest_volume, el.snh, f);
+  else
+    add_snh_forces_at_pressure(x, el.dm_inv, el.rest_volume, el.snh,
+                               group_pressure[static_cast<size_t>(model.volume_groups.of_tet[t])], f);
+}
+
 long compute_internal_forces_reference(const Model& model, const Points& x, const Points& v, Points& f) {
   f.setZero(3, x.cols());
   long active = 0;
-  for (const Element& el : model.elements) {
+  std::vector<double> pressure(static_cast<size_t>(model.volume_groups.size()));
+  if (model.terms & kNeoHookean)
+    for (int g = 0; g < model.volume_groups.size(); ++g) pressure[static_cast<size_t>(g)] = volume_group_pressure(model, g, x);
+  for (size_t t = 0; t < model.elements.size(); ++t) {
+    const Element& el = model.elements[t];
     Vec3 xe[4], ve[4], fe[4];
     for (int i = 0; i < 4; ++i) {
       xe[i] = x.col(el.nodes[i]);
       ve[i] = v.col(el.nodes[i]);
       fe[i].setZero();
     }
-    active += one_element(model, el, xe, ve, fe);
+    active += one_element(model, t, xe, ve, pressure, fe);
     for (int i = 0; i < 4; ++i) f.col(el.nodes[i]) += fe[i];
   }
   return active;
@@ -79,7 +109,12 @@ void element_forces(const Model& model, int e, const Points& x, const Points& v,
     ve[i] = v.col(el.nodes[i]);
     f[i].setZero();
   }
-  one_element(model, el, xe, ve, f);
+  std::vector<double> pressure(static_cast<size_t>(model.volume_groups.size()), 0.0);
+  if ((model.terms & kNeoHookean) && !model.volume_groups.empty()) {
+    const int g = model.volume_groups.of_tet[static_cast<size_t>(e)];
+    pressure[static_cast<size_t>(g)] = volume_group_pressure(model, g, x);
+  }
+  one_element(model, static_cast<size_t>(e), xe, ve, pressure, f);
 }
 
 double conservative_energy(const Model& model, const Points& x) {
@@ -90,8 +125,18 @@ double conservative_energy(const Model& model, const Points& x) {
     if (model.terms & kSprings) u += edge_spring_energy(xe, el.rest_length, el.k.k_s);
     if (model.terms & kRepulsion)
       u += face_repulsion_energy(tet_frame(xe), el.rest_height, el.k.k_r, el.floor);
-    if (model.terms & kNeoHookean) u += snh_element_energy(xe, el.dm_inv, el.rest_volume, el.snh);
+    if (model.terms & kNeoHookean)
+      u += model.volume_groups.empty() ? snh_element_energy(xe, el.dm_inv, el.rest_volume, el.snh)
+                                       : el.rest_volume * snh_shear_energy_density(deformation_gradient(xe, el.dm_inv), el.snh);
   }
+  // The groups' volume terms, V0_g lambda/2 (Jbar_g - alpha)^2 = V0_g p_g^2 / (2 lambda).
+  if (model.terms & kNeoHookean)
+    for (int g = 0; g < model.volume_groups.size(); ++g) {
+      const VolumeGroups& G = model.volume_groups;
+      const double lambda = model.elements[static_cast<size_t>(G.tets[static_cast<size_t>(G.tet_offset[static_cast<size_t>(g)])])].snh.lambda;
+      const double p = volume_group_pressure(model, g, x);
+      u += G.rest_volume[static_cast<size_t>(g)] * p * p / (2.0 * lambda);
+    }
   return u;
 }
 

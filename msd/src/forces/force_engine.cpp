@@ -85,11 +85,13 @@ void edge_pass(const ForcePlan& p, bool springs, bool dampers, const double* x, 
 
 // Pass 2, one tet: the continuum element and the non-linear terms into its
 // four corners; returns whether the non-linear terms ran (thesis 5.8's threshold).
-bool tet_terms(const Model& model, const Element& el, const Points& x, double* corner) {
+bool tet_terms(const Model& model, size_t t, const Points& x, const std::vector<double>& group_pressure,
+               double* corner) {
+  const Element& el = model.elements[t];
   Vec3 xe[4];
   for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[i]);
   Vec3 f[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
-  if (model.terms & kNeoHookean) add_snh_forces(xe, el.dm_inv, el.rest_volume, el.snh, f);
+  if (model.terms & kNeoHookean) add_continuum_element_forces(model, t, xe, group_pressure, f);
   const bool active = (model.terms & (kRepulsion | kVolume)) && add_nonlinear_element_forces(model, el, xe, f);
   for (int i = 0; i < 4; ++i)
     for (int c = 0; c < 3; ++c) corner[3 * i + c] = f[i][c];
@@ -115,6 +117,9 @@ long compute_forces_fast(const Model& model, const Points& x, const Points& v, P
   double* cf = buffers.corner_force.data();
   // A pass a model does not have runs no iterations.
   const long edge_blocks = edges ? (ne + 1023) / 1024 : 0, tet_count = tets ? nt : 0;
+  const long group_count = (model.terms & kNeoHookean) ? model.volume_groups.size() : 0;
+  if (buffers.group_pressure.size() != static_cast<size_t>(group_count)) buffers.group_pressure.resize(static_cast<size_t>(group_count));
+  std::vector<double>& pressure = buffers.group_pressure;
   long active = 0;
 #pragma omp parallel num_threads(threads) if (threads > 1) reduction(+ : active)
   {
@@ -122,8 +127,10 @@ long compute_forces_fast(const Model& model, const Points& x, const Points& v, P
     for (long block = 0; block < edge_blocks; ++block)
       edge_pass(p, springs, dampers, x.data(), v.data(), ef, block * 1024, std::min(ne, block * 1024 + 1024));
 #pragma omp for schedule(static)
+    for (long g = 0; g < group_count; ++g) pressure[static_cast<size_t>(g)] = volume_group_pressure(model, static_cast<int>(g), x);
+#pragma omp for schedule(static)
     for (long t = 0; t < tet_count; ++t)
-      active += tet_terms(model, model.elements[static_cast<size_t>(t)], x, cf + 12 * t);
+      active += tet_terms(model, static_cast<size_t>(t), x, pressure, cf + 12 * t);
 #pragma omp for schedule(static)
     for (long node = 0; node < n; ++node) {
       double s0 = 0.0, s1 = 0.0, s2 = 0.0;

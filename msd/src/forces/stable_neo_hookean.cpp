@@ -33,6 +33,17 @@ Eigen::Matrix<double, 4, 3> shape_gradients(const Mat3& dm_inv) {
   return G;
 }
 
+// H += s d^2 J / dF^2: blocks (c, d) = [[0, -f2^, f1^], [f2^, 0, -f0^], [-f1^, f0^, 0]].
+void add_det_hessian(const Mat3& F, double s, Mat9& H) {
+  const Mat3 h0 = s * cross_matrix(F.col(0)), h1 = s * cross_matrix(F.col(1)), h2 = s * cross_matrix(F.col(2));
+  H.block<3, 3>(0, 3) -= h2;
+  H.block<3, 3>(0, 6) += h1;
+  H.block<3, 3>(3, 0) += h2;
+  H.block<3, 3>(3, 6) -= h0;
+  H.block<3, 3>(6, 0) -= h1;
+  H.block<3, 3>(6, 3) += h0;
+}
+
 }  // namespace
 
 SnhConstants snh_constants(double youngs_modulus, double poisson_ratio, double scale) {
@@ -68,14 +79,7 @@ Mat9 snh_stress_derivative(const Mat3& F, const SnhConstants& c) {
   Mat9 H = (c.mu * (1.0 - 1.0 / (ic + 1.0))) * Mat9::Identity();
   H.noalias() += (2.0 * c.mu / ((ic + 1.0) * (ic + 1.0))) * f * f.transpose();
   H.noalias() += c.lambda * g * g.transpose();
-  const double s = c.lambda * (j - c.alpha);
-  const Mat3 h0 = s * cross_matrix(F.col(0)), h1 = s * cross_matrix(F.col(1)), h2 = s * cross_matrix(F.col(2));
-  H.block<3, 3>(0, 3) -= h2;
-  H.block<3, 3>(0, 6) += h1;
-  H.block<3, 3>(3, 0) += h2;
-  H.block<3, 3>(3, 6) -= h0;
-  H.block<3, 3>(6, 0) -= h1;
-  H.block<3, 3>(6, 3) += h0;
+  add_det_hessian(F, c.lambda * (j - c.alpha), H);
   return H;
 }
 
@@ -99,8 +103,18 @@ double snh_element_energy(const Vec3 x[4], const Mat3& dm_inv, double rest_volum
 }
 
 void add_snh_forces(const Vec3 x[4], const Mat3& dm_inv, double rest_volume, const SnhConstants& c, Vec3 f[4]) {
-  const Mat3 P = snh_stress(deformation_gradient(x, dm_inv), c);
-  // [f1 f2 f3] = -V0 P D_m^-T; f0 balances them.
+  add_snh_forces_at_pressure(x, dm_inv, rest_volume, c, snh_pressure(deformation_gradient(x, dm_inv).determinant(), c), f);
+}
+
+double snh_shear_energy_density(const Mat3& F, const SnhConstants& c) {
+  const double ic = F.squaredNorm();
+  return 0.5 * c.mu * (ic - 3.0) - 0.5 * c.mu * std::log(ic + 1.0);
+}
+
+void add_snh_forces_at_pressure(const Vec3 x[4], const Mat3& dm_inv, double rest_volume, const SnhConstants& c,
+                                double pressure, Vec3 f[4]) {
+  const Mat3 F = deformation_gradient(x, dm_inv);
+  const Mat3 P = c.mu * (1.0 - 1.0 / (F.squaredNorm() + 1.0)) * F + pressure * det_gradient(F);
   const Mat3 h = -rest_volume * P * dm_inv.transpose();
   for (int k = 0; k < 3; ++k) {
     f[k + 1] += h.col(k);
@@ -108,8 +122,18 @@ void add_snh_forces(const Vec3 x[4], const Mat3& dm_inv, double rest_volume, con
   }
 }
 
-void snh_force_jacobian(const Vec3 x[4], const Mat3& dm_inv, double rest_volume, const SnhConstants& c, Mat12& K) {
-  const Mat9 H = snh_stress_derivative(deformation_gradient(x, dm_inv), c);
+Eigen::Matrix<double, 3, 4> volume_gradient(const Vec3 x[4], const Mat3& dm_inv, double rest_volume) {
+  const Mat3 h = rest_volume * det_gradient(deformation_gradient(x, dm_inv)) * dm_inv.transpose();
+  Eigen::Matrix<double, 3, 4> g;
+  g.rightCols<3>() = h;
+  g.col(0) = -h.rowwise().sum();
+  return g;
+}
+
+namespace {
+
+// -V0 B^T H B for a 9 x 9 dP/dF H.
+void stiffness_from(const Mat9& H, const Mat3& dm_inv, double rest_volume, Mat12& K) {
   const Eigen::Matrix<double, 4, 3> G = shape_gradients(dm_inv);
   // B = d vec F / dx: F_ac depends on x_i's component a through G_i(c).
   Eigen::Matrix<double, 9, 12> B = Eigen::Matrix<double, 9, 12>::Zero();
@@ -118,6 +142,23 @@ void snh_force_jacobian(const Vec3 x[4], const Mat3& dm_inv, double rest_volume,
       for (int a = 0; a < 3; ++a) B(a + 3 * col, 3 * i + a) = G(i, col);
   const Eigen::Matrix<double, 9, 12> HB = H * B;
   K.noalias() = -rest_volume * B.transpose() * HB;
+}
+
+}  // namespace
+
+void snh_force_jacobian_at_pressure(const Vec3 x[4], const Mat3& dm_inv, double rest_volume, const SnhConstants& c,
+                                    double pressure, Mat12& K) {
+  const Mat3 F = deformation_gradient(x, dm_inv);
+  const double ic = F.squaredNorm();
+  const Eigen::Map<const Eigen::Matrix<double, 9, 1>> f(F.data());
+  Mat9 H = (c.mu * (1.0 - 1.0 / (ic + 1.0))) * Mat9::Identity();
+  H.noalias() += (2.0 * c.mu / ((ic + 1.0) * (ic + 1.0))) * f * f.transpose();
+  add_det_hessian(F, pressure, H);
+  stiffness_from(H, dm_inv, rest_volume, K);
+}
+
+void snh_force_jacobian(const Vec3 x[4], const Mat3& dm_inv, double rest_volume, const SnhConstants& c, Mat12& K) {
+  stiffness_from(snh_stress_derivative(deformation_gradient(x, dm_inv), c), dm_inv, rest_volume, K);
 }
 
 }  // namespace msd

@@ -1,5 +1,6 @@
 #include "msd/integrate/implicit.hpp"
 
+#include "msd/forces/element_forces.hpp"
 #include "msd/forces/jacobians.hpp"
 #include "msd/forces/parts.hpp"
 #include "msd/forces/stable_neo_hookean.hpp"
@@ -62,6 +63,17 @@ SystemLayout make_system_layout(const Model& model) {
       need(u.a, u.b);
       need(u.b, u.a);
     }
+  // The continuum element's volume groups couple every pair of a group's nodes.
+  const VolumeGroups& groups = model.volume_groups;
+  const auto group_nodes = [&](int g) {
+    return std::make_pair(groups.nodes.begin() + groups.node_offset[static_cast<size_t>(g)],
+                          groups.nodes.begin() + groups.node_offset[static_cast<size_t>(g) + 1]);
+  };
+  for (int g = 0; g < groups.size(); ++g) {
+    const auto [first, last] = group_nodes(g);
+    for (auto a = first; a != last; ++a)
+      for (auto b = first; b != last; ++b) need(*a, *b);
+  }
   const int blocks = static_cast<int>(block_nodes.size());
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(9 * static_cast<size_t>(blocks));
@@ -105,6 +117,13 @@ SystemLayout make_system_layout(const Model& model) {
       L.unit_block.push_back(find_block(model, extra, u.a, u.b));
       L.unit_block.push_back(find_block(model, extra, u.b, u.a));
     }
+  L.group_block_offset.assign(1, 0);
+  for (int g = 0; g < groups.size(); ++g) {
+    const auto [first, last] = group_nodes(g);
+    for (auto a = first; a != last; ++a)
+      for (auto b = first; b != last; ++b) L.group_block.push_back(find_block(model, extra, *a, *b));
+    L.group_block_offset.push_back(static_cast<int>(L.group_block.size()));
+  }
   L.block_nodes = std::move(block_nodes);
   L.fixed.assign(3 * static_cast<size_t>(n), 0);
   for (const KinematicGroup& g : model.groups)
@@ -172,6 +191,32 @@ void assemble_parts(const Model& model, const SystemLayout& L, const Points& x, 
   }
 }
 
+// The volume groups' coupling, -(lambda / V0_g) g g^T with g = sum over the
+// group's tets of dV_t/dx (stable_neo_hookean.hpp), times c_k.
+void assemble_volume_groups(const Model& model, const SystemLayout& L, const Points& x, double c_k, double* values) {
+  const VolumeGroups& G = model.volume_groups;
+  thread_local Eigen::Matrix3Xd grad;
+  for (int g = 0; g < G.size(); ++g) {
+    const size_t gi = static_cast<size_t>(g);
+    const int m = G.node_offset[gi + 1] - G.node_offset[gi];
+    grad.setZero(3, m);
+    double lambda = 0.0;
+    for (int q = G.tet_offset[gi]; q < G.tet_offset[gi + 1]; ++q) {
+      const size_t t = static_cast<size_t>(G.tets[static_cast<size_t>(q)]);
+      const Element& el = model.elements[t];
+      Vec3 xe[4];
+      for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[static_cast<size_t>(i)]);
+      const Eigen::Matrix<double, 3, 4> dv = volume_gradient(xe, el.dm_inv, el.rest_volume);
+      for (int i = 0; i < 4; ++i) grad.col(G.corner_slot[4 * t + static_cast<size_t>(i)]) += dv.col(i);
+      lambda = el.snh.lambda;
+    }
+    const double c = -c_k * lambda / G.rest_volume[gi];
+    const int* ids = L.group_block.data() + L.group_block_offset[gi];
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < m; ++j) add_block(values, L, ids[i * m + j], grad.col(i) * grad.col(j).transpose(), c);
+  }
+}
+
 }  // namespace
 
 void assemble_system(const Model& model, const SystemLayout& L, const Points& x, const Points& v, double c_m,
@@ -206,6 +251,12 @@ void assemble_system(const Model& model, const SystemLayout& L, const Points& x,
       }
     }
   const bool nonlinear = model.terms & (kRepulsion | kVolume), continuum = model.terms & kNeoHookean;
+  const VolumeGroups& groups = model.volume_groups;
+  thread_local std::vector<double> pressure;
+  if (c_k != 0.0 && continuum) {
+    pressure.resize(static_cast<size_t>(groups.size()));
+    for (int g = 0; g < groups.size(); ++g) pressure[static_cast<size_t>(g)] = volume_group_pressure(model, g, x);
+  }
   if (c_k != 0.0 && (nonlinear || continuum)) {
     Mat12 K, Kc;
     for (size_t t = 0; t < model.elements.size(); ++t) {
@@ -214,7 +265,11 @@ void assemble_system(const Model& model, const SystemLayout& L, const Points& x,
       for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[static_cast<size_t>(i)]);
       const bool active = nonlinear && nonlinear_element_jacobian(model, el, xe, K);
       if (continuum) {
-        snh_force_jacobian(xe, el.dm_inv, el.rest_volume, el.snh, Kc);
+        if (groups.empty())
+          snh_force_jacobian(xe, el.dm_inv, el.rest_volume, el.snh, Kc);
+        else
+          snh_force_jacobian_at_pressure(xe, el.dm_inv, el.rest_volume, el.snh,
+                                         pressure[static_cast<size_t>(groups.of_tet[t])], Kc);
         if (active)
           K += Kc;
         else
@@ -228,6 +283,7 @@ void assemble_system(const Model& model, const SystemLayout& L, const Points& x,
                     K.block<3, 3>(3 * i, 3 * j), c_k);
     }
   }
+  if (c_k != 0.0 && continuum) assemble_volume_groups(model, L, x, c_k, values);
   if (c_k != 0.0) assemble_parts(model, L, x, joints, controls, c_k, values);
 }
 
@@ -246,6 +302,7 @@ struct ImplicitWorkspace {
   const Model* model = nullptr;  // the model the layout was made for
   int nodes = -1, edges = -1;
   size_t strands = 0, muscles = 0;  // the parts the layout's extra blocks were made for
+  int volume_groups = 0;
   SystemLayout layout;
   Eigen::SparseMatrix<double> A;
   Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;  // sparse_lu
@@ -278,7 +335,8 @@ ImplicitWorkspace& workspace(const Model& model, Scratch& scratch) {
   if (!scratch.implicit) scratch.implicit = std::make_shared<ImplicitWorkspace>();
   ImplicitWorkspace& w = *scratch.implicit;
   if (w.model != &model || w.nodes != model.num_nodes() || w.edges != model.plan.num_edges() ||
-      w.strands != model.strands.size() || w.muscles != model.muscles.size()) {
+      w.strands != model.strands.size() || w.muscles != model.muscles.size() ||
+      w.volume_groups != model.volume_groups.size()) {
     w.layout = make_system_layout(model);
     w.A = w.layout.pattern;
     w.lu.analyzePattern(w.A);
@@ -288,6 +346,7 @@ ImplicitWorkspace& workspace(const Model& model, Scratch& scratch) {
     w.edges = model.plan.num_edges();
     w.strands = model.strands.size();
     w.muscles = model.muscles.size();
+    w.volume_groups = model.volume_groups.size();
     w.model = &model;
   }
   return w;

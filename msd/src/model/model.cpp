@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace msd {
 
@@ -34,6 +35,53 @@ LinearSolver parse_linear_solver(const std::string& name) {
   if (name == "symmetric_ldlt") return LinearSolver::symmetric_ldlt;
   throw Error("unknown linear solver '" + name + "' (expected sparse_lu or symmetric_ldlt)");
 }
+
+namespace {
+
+// The groups of ModelOptions::volume_group, numbered in order of first appearance.
+VolumeGroups make_volume_groups(const Model& model, const std::vector<long>& label) {
+  if (!(model.terms & kNeoHookean)) throw Error("volume groups are given but the model has no neo_hookean term");
+  const size_t nt = model.elements.size();
+  if (label.size() != nt)
+    throw Error("volume groups: " + std::to_string(label.size()) + " labels for " + std::to_string(nt) + " tets");
+  std::map<long, int> index;
+  std::vector<int> of_tet(nt);
+  for (size_t t = 0; t < nt; ++t) of_tet[t] = index.emplace(label[t], static_cast<int>(index.size())).first->second;
+  const size_t ng = index.size();
+  VolumeGroups g;
+  g.of_tet = of_tet;
+  g.tet_offset.assign(ng + 1, 0);
+  for (int k : of_tet) ++g.tet_offset[static_cast<size_t>(k) + 1];
+  for (size_t k = 0; k < ng; ++k) g.tet_offset[k + 1] += g.tet_offset[k];
+  g.tets.resize(nt);
+  std::vector<int> next(g.tet_offset.begin(), g.tet_offset.end() - 1);
+  for (size_t t = 0; t < nt; ++t) g.tets[static_cast<size_t>(next[static_cast<size_t>(of_tet[t])]++)] = static_cast<int>(t);
+  g.rest_volume.assign(ng, 0.0);
+  g.corner_slot.assign(4 * nt, -1);
+  g.node_offset.assign(1, 0);
+  for (size_t k = 0; k < ng; ++k) {
+    const int first = g.tets[static_cast<size_t>(g.tet_offset[k])];
+    const size_t start = g.nodes.size();
+    for (int q = g.tet_offset[k]; q < g.tet_offset[k + 1]; ++q) {
+      const size_t t = static_cast<size_t>(g.tets[static_cast<size_t>(q)]);
+      const Element& el = model.elements[t];
+      if (el.region != model.elements[static_cast<size_t>(first)].region)
+        throw Error("volume group " + std::to_string(k) + " has tets of regions " +
+                    std::to_string(model.elements[static_cast<size_t>(first)].region) + " and " + std::to_string(el.region) +
+                    " (tet " + std::to_string(t) + "): a group shares one material");
+      g.rest_volume[k] += el.rest_volume;
+      for (int i = 0; i < 4; ++i) {
+        const auto at = std::find(g.nodes.begin() + static_cast<long>(start), g.nodes.end(), el.nodes[static_cast<size_t>(i)]);
+        g.corner_slot[4 * t + static_cast<size_t>(i)] = static_cast<int>(at - (g.nodes.begin() + static_cast<long>(start)));
+        if (at == g.nodes.end()) g.nodes.push_back(el.nodes[static_cast<size_t>(i)]);
+      }
+    }
+    g.node_offset.push_back(static_cast<int>(g.nodes.size()));
+  }
+  return g;
+}
+
+}  // namespace
 
 Model build_model(const TetMesh& mesh, const ModelOptions& options) {
   check_tet_mesh(mesh, "model mesh");
@@ -111,6 +159,7 @@ Model build_model(const TetMesh& mesh, const ModelOptions& options) {
   for (int i = 0; i < n; ++i)
     if (!(model.mass[i] > 0.0)) throw Error("node " + std::to_string(i) + " belongs to no tet (zero mass)");
   model.inv_mass = model.mass.cwiseInverse();
+  if (!options.volume_group.empty()) model.volume_groups = make_volume_groups(model, options.volume_group);
   model.plan = make_force_plan(model.elements, n);
 
   std::vector<int> owner(static_cast<size_t>(n), -1);

@@ -43,11 +43,16 @@ constexpr unsigned kAll = msd::kSprings | msd::kDampers | msd::kRepulsion | msd:
 
 // A 4 x 3 x 5 cm block at h = 1 cm with physical constants (2 regions, so
 // tets sharing an edge can carry different constants).
-msd::Model block(unsigned terms, double threshold, int threads) {
+msd::Model block(unsigned terms, double threshold, int threads, bool cube_volumes = false) {
   msd::SampleMeshOptions o;
   o.spacing = 0.01;
   auto s = msd::mesh_closed_surface(msd::make_box(Vec3::Zero(), Vec3(0.04, 0.03, 0.05)), o, "block");
-  for (size_t t = 0; t < s.mesh.tets.size(); ++t) s.mesh.region[t] = s.mesh.nodes(2, s.mesh.tets[t][0]) > 0.025;
+  // Two layers, each a whole number of cubes (so a cube's tets share a material): the tet's centroid above 3 cm.
+  for (size_t t = 0; t < s.mesh.tets.size(); ++t) {
+    double z = 0.0;
+    for (int i = 0; i < 4; ++i) z += 0.25 * s.mesh.nodes(2, s.mesh.tets[t][i]);
+    s.mesh.region[t] = z > 0.03;
+  }
   msd::TissueMaterial soft;
   soft.mode = msd::ConstantsMode::Physical;
   soft.density = 1000;
@@ -63,6 +68,7 @@ msd::Model block(unsigned terms, double threshold, int threads) {
   mo.nonlinear_threshold = threshold;
   mo.region_materials = {soft, stiff};
   mo.threads = threads;
+  if (cube_volumes) mo.volume_group = s.info.tet_cube_id;
   return msd::build_model(s.mesh, mo);
 }
 
@@ -148,6 +154,51 @@ TEST(ForceEngine, BitIdenticalForOneTwoAndThreeThreadsAndRepeatedCalls) {
     EXPECT_TRUE((f1.array() == f2.array()).all());
     EXPECT_TRUE((f1.array() == f3.array()).all());
   }
+}
+
+TEST(ForceEngine, TheNeoHookeanElementWithCubeVolumesEqualsTheReferenceIsBitIdenticalOnAnyThreadCountAndIsMinusTheEnergysGradient) {
+  const unsigned terms = msd::kNeoHookean | msd::kDampers;
+  const msd::Model m1 = block(terms, 0.0, 1, true), m2 = block(terms, 0.0, 2, true);
+  ASSERT_EQ(m1.volume_groups.size() * 5, m1.num_elements());  // five tets per cube
+  msd::Points x, v, fast, fast2, ref;
+  deform(m1, 0.75, 0.002, x, v);
+  msd::Scratch s;
+  msd::compute_forces_fast(m1, x, v, fast, s);
+  msd::compute_forces_fast(m2, x, v, fast2, s);
+  msd::compute_internal_forces_reference(m1, x, v, ref);
+  ASSERT_GT(max_abs(ref), 0.0);
+  EXPECT_LE(max_abs(fast - ref), 1e-12 * max_abs(ref));
+  EXPECT_TRUE((fast.array() == fast2.array()).all());
+  // Elastic forces only (no dampers): minus the gradient of conservative_energy, by central differences.
+  const msd::Model elastic = block(msd::kNeoHookean, 0.0, 1, true);
+  msd::Points f;
+  msd::compute_forces_fast(elastic, x, v, f, s);
+  const double h = 1e-8;
+  double worst = 0.0;
+  for (Eigen::Index k = 0; k < x.size(); k += 7) {
+    msd::Points y = x;
+    y.data()[k] += h;
+    const double up = msd::conservative_energy(elastic, y);
+    y.data()[k] -= 2 * h;
+    const double down = msd::conservative_energy(elastic, y);
+    worst = std::max(worst, std::abs(f.data()[k] + (up - down) / (2 * h)));
+  }
+  EXPECT_LT(worst, 1e-5 * max_abs(f));
+}
+
+TEST(ForceEngine, UnderAHomogeneousDeformationCubeVolumesGiveThePerTetForces) {
+  // Every tet of a cube has the cube's volume ratio when the deformation is affine.
+  const unsigned terms = msd::kNeoHookean;
+  const msd::Model tets = block(terms, 0.0, 1), cubes = block(terms, 0.0, 1, true);
+  msd::Mat3 A;
+  A << 1.1, 0.2, -0.05, 0.03, 0.85, 0.1, 0.0, -0.15, 1.2;
+  const msd::Points x = A * tets.rest_positions, v = msd::Points::Zero(3, tets.num_nodes());
+  msd::Points f_tets, f_cubes;
+  msd::Scratch s;
+  msd::compute_forces_fast(tets, x, v, f_tets, s);
+  msd::compute_forces_fast(cubes, x, v, f_cubes, s);
+  ASSERT_GT(max_abs(f_tets), 0.0);
+  EXPECT_LE(max_abs(f_tets - f_cubes), 1e-10 * max_abs(f_tets));
 }
 
 TEST(ForceEngine, ZeroNetForceAndTorque) {

@@ -243,3 +243,48 @@ TEST(StableNeoHookean, ADegenerateRestTetIsRefused) {
   Vec3 x[4] = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0)};
   EXPECT_THROW(msd::rest_shape_inverse(x), msd::Error);
 }
+
+TEST(StableNeoHookean, TheVolumeGradientIsTheTetVolumesDerivative) {
+  Vec3 rest[4];
+  rest_tet(rest);
+  const Mat3 dm_inv = msd::rest_shape_inverse(rest);
+  const double v0 = (rest[1] - rest[0]).dot((rest[2] - rest[0]).cross(rest[3] - rest[0])) / 6.0;
+  Vec3 x[4];
+  deformed(rest, 0.8, 21u, x);
+  const auto g = msd::volume_gradient(x, dm_inv, v0);
+  const auto volume = [&](const Vec3 y[4]) { return (y[1] - y[0]).dot((y[2] - y[0]).cross(y[3] - y[0])) / 6.0; };
+  const double h = 1e-8;
+  for (int k = 0; k < 4; ++k)
+    for (int d = 0; d < 3; ++d) {
+      Vec3 y[4] = {x[0], x[1], x[2], x[3]};
+      y[k][d] += h;
+      const double up = volume(y);
+      y[k][d] -= 2 * h;
+      EXPECT_NEAR(g(d, k), (up - volume(y)) / (2 * h), 1e-7 * g.norm()) << "vertex " << k << " axis " << d;
+    }
+}
+
+TEST(StableNeoHookean, ATetAloneInItsVolumeGroupIsTheElementItself) {
+  // Shear energy + lambda/2 (J - alpha)^2 is Psi; the shear forces at the tet's own
+  // pressure are its forces; the stiffness at that pressure minus (lambda / V0) g g^T is its stiffness.
+  Vec3 rest[4];
+  rest_tet(rest);
+  const Mat3 dm_inv = msd::rest_shape_inverse(rest);
+  const double v0 = (rest[1] - rest[0]).dot((rest[2] - rest[0]).cross(rest[3] - rest[0])) / 6.0;
+  Vec3 x[4];
+  deformed(rest, 0.7, 23u, x);
+  const Mat3 F = msd::deformation_gradient(x, dm_inv);
+  const double J = F.determinant(), p = msd::snh_pressure(J, kFlesh);
+  EXPECT_NEAR(msd::snh_shear_energy_density(F, kFlesh) + 0.5 * kFlesh.lambda * (J - kFlesh.alpha) * (J - kFlesh.alpha),
+              msd::snh_energy_density(F, kFlesh), 1e-12 * kFlesh.lambda);
+  Vec3 f[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+  msd::add_snh_forces_at_pressure(x, dm_inv, v0, kFlesh, p, f);
+  const auto whole = forces(x, dm_inv, v0, kFlesh);
+  for (int i = 0; i < 4; ++i) EXPECT_LT((f[i] - whole.segment<3>(3 * i)).norm(), 1e-12 * whole.norm());
+  Mat12 Kp, K;
+  msd::snh_force_jacobian_at_pressure(x, dm_inv, v0, kFlesh, p, Kp);
+  msd::snh_force_jacobian(x, dm_inv, v0, kFlesh, K);
+  const auto g = msd::volume_gradient(x, dm_inv, v0);
+  const Eigen::Map<const Eigen::Matrix<double, 12, 1>> gv(g.data());
+  EXPECT_LT((Kp - (kFlesh.lambda / v0) * gv * gv.transpose() - K).norm(), 1e-10 * K.norm());
+}

@@ -106,3 +106,44 @@ TEST(Model, TheNeoHookeanTermNeedsPhysicalConstantsWithAPoissonsRatio) {
   EXPECT_TRUE(ok.elements[0].dm_inv.allFinite());
   EXPECT_GT(ok.elements[0].dm_inv.norm(), 0.0);
 }
+
+TEST(Model, VolumeGroupsFromTheLatticesCubesHoldFiveTetsEightNodesAndTheCubesVolume) {
+  const auto s = block();
+  msd::ModelOptions o;
+  o.terms = msd::kNeoHookean;
+  msd::TissueMaterial m = material(msd::MassLumping::PerTet);
+  m.mode = msd::ConstantsMode::Physical;
+  m.youngs_modulus = 3000.0;
+  m.poisson_ratio = 0.45;
+  o.region_materials = {m};
+  o.volume_group = s.info.tet_cube_id;
+  const msd::Model model = msd::build_model(s.mesh, o);
+  const msd::VolumeGroups& g = model.volume_groups;
+  ASSERT_EQ(g.size(), 2 * 2 * 4);
+  for (int k = 0; k < g.size(); ++k) {
+    EXPECT_EQ(g.tet_offset[k + 1] - g.tet_offset[k], 5);
+    EXPECT_EQ(g.node_offset[k + 1] - g.node_offset[k], 8);
+    EXPECT_NEAR(g.rest_volume[k], 1e-6, 1e-18);
+    for (int q = g.tet_offset[k]; q < g.tet_offset[k + 1]; ++q) {
+      const int t = g.tets[q];
+      EXPECT_EQ(g.of_tet[t], k);
+      for (int i = 0; i < 4; ++i) EXPECT_EQ(g.nodes[g.node_offset[k] + g.corner_slot[4 * t + i]], model.elements[t].nodes[i]);
+    }
+  }
+  // Refusals: without the neo_hookean term, a label count that is not the tet count, a group across regions.
+  o.terms = msd::kSprings;
+  EXPECT_THROW(msd::build_model(s.mesh, o), msd::Error);
+  o.terms = msd::kNeoHookean;
+  o.volume_group.pop_back();
+  EXPECT_THROW(msd::build_model(s.mesh, o), msd::Error);
+  o.volume_group = s.info.tet_cube_id;
+  auto two = s.mesh;
+  two.region[0] = 1;
+  o.region_materials = {m, m};
+  try {
+    msd::build_model(two, o);
+    ADD_FAILURE() << "a cube across two regions was accepted";
+  } catch (const msd::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("regions"), std::string::npos) << e.what();
+  }
+}

@@ -28,6 +28,17 @@ long compute_internal_forces_reference(const Model& model, const Points& x, cons
 /// the fast engine.
 bool add_nonlinear_element_forces(const Model& model, const Element& el, const Vec3 x[4], Vec3 f[4]);
 
+/// The continuum element's pressure lambda (Jbar - alpha) of volume group g at
+/// x (msd/forces/stable_neo_hookean.hpp), Pa.
+double volume_group_pressure(const Model& model, int g, const Points& x);
+
+/// The continuum element's forces on tet t (vertices x[0..3]) added to f: its
+/// own volume term, or with volume groups the shear part and its group's
+/// pressure from `group_pressure` (per group). Shared by the reference loop
+/// and the fast engine.
+void add_continuum_element_forces(const Model& model, size_t t, const Vec3 x[4],
+                                  const std::vector<double>& group_pressure, Vec3 f[4]);
+
 /// Forces of element e alone, for diagnostics and tests: f[i] is the force on
 /// its local vertex i.
 void element_forces(const Model& model, int e, const Points& x, const Points& v, Vec3 f[4]);

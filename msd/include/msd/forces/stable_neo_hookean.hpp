@@ -74,4 +74,38 @@ void add_snh_forces(const Vec3 x[4], const Mat3& dm_inv, double rest_volume, con
 /// vertex j; column 3 k + b: component b of x_k) into K (overwritten).
 void snh_force_jacobian(const Vec3 x[4], const Mat3& dm_inv, double rest_volume, const SnhConstants& c, Mat12& K);
 
+// Mean dilatation (the continuum element's `per_cube` volume): the volume
+// term lambda/2 (J - alpha)^2 is taken once per group of tets (a cube of the
+// lattice) with the group's volume ratio Jbar = sum V_t / sum V0_t in place of
+// each tet's J (Nagtegaal, Parks & Rice 1974; Hughes 1980, the B-bar method;
+// the FEM reference's Q1-P0 three-field element is the same idea on hexes).
+// One volume constraint per cube instead of five stops the lattice locking
+// at nu near 0.5. The energy is
+//   sum_t V0_t Psi_shear(F_t) + sum_g V0_g lambda/2 (Jbar_g - alpha)^2,
+//   Psi_shear(F) = mu/2 (I_C - 3) - mu/2 log(I_C + 1),
+// so each tet of group g takes the shear forces of its own F and the
+// pressure p_g = lambda (Jbar_g - alpha) times -dV_t/dx; its stiffness adds
+// -(lambda / V0_g) g g^T over the group's nodes, g = sum_t dV_t/dx.
+// With groups of one tet this is the element above, exactly.
+
+/// Psi_shear(F), Pa.
+double snh_shear_energy_density(const Mat3& F, const SnhConstants& c);
+
+/// lambda (J - alpha): the volume term's pressure at volume ratio J, Pa.
+inline double snh_pressure(double J, const SnhConstants& c) { return c.lambda * (J - c.alpha); }
+
+/// Adds the forces of Psi_shear(F) and of a pressure p acting on the tet's
+/// volume: -V0 (dPsi_shear/dF + p dJ/dF) G_i. With p = snh_pressure(J) these
+/// are add_snh_forces' forces.
+void add_snh_forces_at_pressure(const Vec3 x[4], const Mat3& dm_inv, double rest_volume, const SnhConstants& c,
+                                double pressure, Vec3 f[4]);
+
+/// dV/dx_i of the tet (3 x 4; column i), V0 dJ/dF G_i.
+Eigen::Matrix<double, 3, 4> volume_gradient(const Vec3 x[4], const Mat3& dm_inv, double rest_volume);
+
+/// dF/dx of add_snh_forces_at_pressure's forces at a fixed pressure (the
+/// group's g g^T term is the caller's) into K (overwritten).
+void snh_force_jacobian_at_pressure(const Vec3 x[4], const Mat3& dm_inv, double rest_volume, const SnhConstants& c,
+                                    double pressure, Mat12& K);
+
 }  // namespace msd

@@ -42,6 +42,10 @@ struct SystemLayout {
   std::vector<int> strand_block_offset, strand_block;
   /// Per muscle unit (muscles in order, units in order): its (a, b) and (b, a) blocks.
   std::vector<int> unit_block;
+  /// Per volume group g of the continuum element (Model::volume_groups), the
+  /// blocks of its node pairs (i, j), m x m row-major (m its node count), at
+  /// group_block[group_block_offset[g] + i m + j].
+  std::vector<int> group_block_offset, group_block;
   /// Per degree of freedom (3 n + axis): prescribed by a kinematic group.
   std::vector<char> fixed;
   /// Per block: its (row, column) nodes.

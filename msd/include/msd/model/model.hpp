@@ -106,6 +106,22 @@ struct ForcePlan {
   int num_edges() const { return static_cast<int>(edge_a.size()); }
 };
 
+/// The continuum element's volume groups (mean dilatation,
+/// msd/forces/stable_neo_hookean.hpp): group g's tets are
+/// tets[tet_offset[g] .. tet_offset[g+1]), its distinct nodes
+/// nodes[node_offset[g] .. node_offset[g+1]) and corner_slot[4 t + i] is the
+/// place of tet t's corner i in its group's node list. Empty: every tet is
+/// its own group (the per-tet element).
+struct VolumeGroups {
+  std::vector<int> tet_offset, tets;    ///< G + 1, T
+  std::vector<int> node_offset, nodes;  ///< G + 1, sum of group sizes
+  std::vector<int> of_tet;              ///< T: the group of each tet
+  std::vector<int> corner_slot;         ///< 4 T
+  std::vector<double> rest_volume;      ///< G, m^3
+  int size() const { return static_cast<int>(rest_volume.size()); }
+  bool empty() const { return rest_volume.empty(); }
+};
+
 /// Nodes whose motion is prescribed: for each prescribed axis, position =
 /// rest position + offset(t) and velocity = velocity(t), both from Controls.
 /// (A bonded platen prescribes all three axes; a frictionless one only its
@@ -190,6 +206,7 @@ struct Model {
   std::vector<Tet> contact_tets;      ///< the elements' nodes (for self_contact)
   std::vector<char> kinematic;        ///< per node: in a kinematic group (for self_contact)
   ForcePlan plan;   ///< the fast evaluation's layout (build_model)
+  VolumeGroups volume_groups;  ///< the continuum element's (ModelOptions::volume_group)
   int threads = 1;  ///< threads of the force evaluation (results do not depend on it)
   /// Evaluate with the per-tet reference loop instead of the engine (the path
   /// the engine replaced: for verification and side-by-side timing).
@@ -217,6 +234,10 @@ struct ModelOptions {
   int threads = 1;
   bool reference_forces = false;  ///< see Model::reference_forces
   NewtonOptions newton;           ///< see Model::newton
+  /// With kNeoHookean: a group label per tet (e.g. its cube of the lattice,
+  /// GridMeshInfo::tet_cube_id); tets with one label share one volume ratio
+  /// (mean dilatation) and must share a region. Empty: per tet.
+  std::vector<long> volume_group;
 };
 
 /// Compiles a model: checks the mesh and materials, computes rest data and
@@ -284,6 +305,7 @@ struct Scratch {
   long nonlinear_active = 0;       ///< elements whose non-linear terms ran
   Points edge_force;               ///< 3 x E: force on each edge's node a (b gets minus)
   Points corner_force;             ///< 3 x 4T: non-linear force on each tet corner
+  std::vector<double> group_pressure;  ///< per volume group: lambda (Jbar - alpha), Pa
   /// The implicit integrator's matrix, factorisation and vectors (made on its
   /// first step, then reused).
   std::shared_ptr<ImplicitWorkspace> implicit;
