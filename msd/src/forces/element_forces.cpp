@@ -57,22 +57,25 @@ double volume_group_pressure(const Model& model, int g, const Points& x) {
   const VolumeGroups& G = model.volume_groups;
   double volume = 0.0;
   for (int q = G.tet_offset[static_cast<size_t>(g)]; q < G.tet_offset[static_cast<size_t>(g) + 1]; ++q) {
-    const Element& el = model.elements[static_cast<size_t>(G.tets[static_cast<size_t>(q)])];
+    const size_t t = static_cast<size_t>(G.tets[static_cast<size_t>(q)]);
+    const Element& el = model.elements[t];
     Vec3 xe[4];
     for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[static_cast<size_t>(i)]);
-    volume += el.rest_volume * deformation_gradient(xe, el.dm_inv).determinant();
+    volume += el.rest_volume * deformation_gradient(xe, model.continuum.dm_inv[t]).determinant();
   }
-  const Element& first = model.elements[static_cast<size_t>(G.tets[static_cast<size_t>(G.tet_offset[static_cast<size_t>(g)])])];
-  return snh_pressure(volume / G.rest_volume[static_cast<size_t>(g)], first.snh);
+  const size_t first = static_cast<size_t>(G.tets[static_cast<size_t>(G.tet_offset[static_cast<size_t>(g)])]);
+  return snh_pressure(volume / G.rest_volume[static_cast<size_t>(g)], model.continuum.constants[first]);
 }
 
 void add_continuum_element_forces(const Model& model, size_t t, const Vec3 x[4],
                                   const std::vector<double>& group_pressure, Vec3 f[4]) {
-  const Element& el = model.elements[t];
+  const double v0 = model.elements[t].rest_volume;
+  const Mat3& dm_inv = model.continuum.dm_inv[t];
+  const SnhConstants& c = model.continuum.constants[t];
   if (model.volume_groups.empty())
-    add_snh_forces(x, el.dm_inv, el.rest_volume, el.snh, f);
+    add_snh_forces(x, dm_inv, v0, c, f);
   else
-    add_snh_forces_at_pressure(x, el.dm_inv, el.rest_volume, el.snh,
+    add_snh_forces_at_pressure(x, dm_inv, v0, c,
                                group_pressure[static_cast<size_t>(model.volume_groups.of_tet[t])], f);
 }
 
@@ -119,21 +122,24 @@ void element_forces(const Model& model, int e, const Points& x, const Points& v,
 
 double conservative_energy(const Model& model, const Points& x) {
   double u = 0.0;
-  for (const Element& el : model.elements) {
+  for (size_t t = 0; t < model.elements.size(); ++t) {
+    const Element& el = model.elements[t];
     Vec3 xe[4];
     for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[i]);
     if (model.terms & kSprings) u += edge_spring_energy(xe, el.rest_length, el.k.k_s);
     if (model.terms & kRepulsion)
       u += face_repulsion_energy(tet_frame(xe), el.rest_height, el.k.k_r, el.floor);
     if (model.terms & kNeoHookean)
-      u += model.volume_groups.empty() ? snh_element_energy(xe, el.dm_inv, el.rest_volume, el.snh)
-                                       : el.rest_volume * snh_shear_energy_density(deformation_gradient(xe, el.dm_inv), el.snh);
+      u += model.volume_groups.empty()
+               ? snh_element_energy(xe, model.continuum.dm_inv[t], el.rest_volume, model.continuum.constants[t])
+               : el.rest_volume * snh_shear_energy_density(deformation_gradient(xe, model.continuum.dm_inv[t]),
+                                                           model.continuum.constants[t]);
   }
   // The groups' volume terms, V0_g lambda/2 (Jbar_g - alpha)^2 = V0_g p_g^2 / (2 lambda).
   if (model.terms & kNeoHookean)
     for (int g = 0; g < model.volume_groups.size(); ++g) {
       const VolumeGroups& G = model.volume_groups;
-      const double lambda = model.elements[static_cast<size_t>(G.tets[static_cast<size_t>(G.tet_offset[static_cast<size_t>(g)])])].snh.lambda;
+      const double lambda = model.continuum.constants[static_cast<size_t>(G.tets[static_cast<size_t>(G.tet_offset[static_cast<size_t>(g)])])].lambda;
       const double p = volume_group_pressure(model, g, x);
       u += G.rest_volume[static_cast<size_t>(g)] * p * p / (2.0 * lambda);
     }

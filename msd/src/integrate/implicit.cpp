@@ -206,9 +206,9 @@ void assemble_volume_groups(const Model& model, const SystemLayout& L, const Poi
       const Element& el = model.elements[t];
       Vec3 xe[4];
       for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[static_cast<size_t>(i)]);
-      const Eigen::Matrix<double, 3, 4> dv = volume_gradient(xe, el.dm_inv, el.rest_volume);
+      const Eigen::Matrix<double, 3, 4> dv = volume_gradient(xe, model.continuum.dm_inv[t], el.rest_volume);
       for (int i = 0; i < 4; ++i) grad.col(G.corner_slot[4 * t + static_cast<size_t>(i)]) += dv.col(i);
-      lambda = el.snh.lambda;
+      lambda = model.continuum.constants[t].lambda;
     }
     const double c = -c_k * lambda / G.rest_volume[gi];
     const int* ids = L.group_block.data() + L.group_block_offset[gi];
@@ -266,9 +266,9 @@ void assemble_system(const Model& model, const SystemLayout& L, const Points& x,
       const bool active = nonlinear && nonlinear_element_jacobian(model, el, xe, K);
       if (continuum) {
         if (groups.empty())
-          snh_force_jacobian(xe, el.dm_inv, el.rest_volume, el.snh, Kc);
+          snh_force_jacobian(xe, model.continuum.dm_inv[t], el.rest_volume, model.continuum.constants[t], Kc);
         else
-          snh_force_jacobian_at_pressure(xe, el.dm_inv, el.rest_volume, el.snh,
+          snh_force_jacobian_at_pressure(xe, model.continuum.dm_inv[t], el.rest_volume, model.continuum.constants[t],
                                          pressure[static_cast<size_t>(groups.of_tet[t])], Kc);
         if (active)
           K += Kc;
@@ -544,8 +544,10 @@ double round_off_force(const Model& model) {
     f = std::max(f, p.edge_k_s[static_cast<size_t>(e)] * p.edge_rest[static_cast<size_t>(e)]);
   // The continuum element's: its moduli times a face area, (mu + lambda) V0^(2/3).
   if (model.terms & kNeoHookean)
-    for (const Element& el : model.elements)
-      f = std::max(f, (el.snh.mu + el.snh.lambda) * std::cbrt(el.rest_volume * el.rest_volume));
+    for (size_t t = 0; t < model.elements.size(); ++t) {
+      const SnhConstants& c = model.continuum.constants[t];
+      f = std::max(f, (c.mu + c.lambda) * std::cbrt(model.elements[t].rest_volume * model.elements[t].rest_volume));
+    }
   return 1e3 * std::numeric_limits<double>::epsilon() * f;
 }
 

@@ -136,8 +136,8 @@ Model build_model(const TetMesh& mesh, const ModelOptions& options) {
       if (mat.mode != ConstantsMode::Physical || !mat.poisson_ratio)
         throw Error("material of region " + std::to_string(r) +
                     ": the neo_hookean term needs physical constants with a Poisson's ratio (youngs_modulus, poisson_ratio)");
-      el.dm_inv = rest_shape_inverse(x);
-      el.snh = snh_constants(mat.youngs_modulus, *mat.poisson_ratio, mat.stiffness_scale);
+      model.continuum.dm_inv.push_back(rest_shape_inverse(x));
+      model.continuum.constants.push_back(snh_constants(mat.youngs_modulus, *mat.poisson_ratio, mat.stiffness_scale));
     }
     const double m = mat.density * el.rest_volume;
     if (mat.lumping == MassLumping::PerTet) {

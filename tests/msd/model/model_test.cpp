@@ -102,9 +102,14 @@ TEST(Model, TheNeoHookeanTermNeedsPhysicalConstantsWithAPoissonsRatio) {
   o.region_materials[0].poisson_ratio = 0.45;
   const msd::Model ok = msd::build_model(s.mesh, o);
   const double mu_l = 3000.0 / (2 * 1.45);
-  EXPECT_NEAR(ok.elements[0].snh.mu, 4.0 / 3.0 * mu_l, 1e-9);
-  EXPECT_TRUE(ok.elements[0].dm_inv.allFinite());
-  EXPECT_GT(ok.elements[0].dm_inv.norm(), 0.0);
+  ASSERT_EQ(ok.continuum.constants.size(), ok.elements.size());
+  ASSERT_EQ(ok.continuum.dm_inv.size(), ok.elements.size());
+  EXPECT_NEAR(ok.continuum.constants[0].mu, 4.0 / 3.0 * mu_l, 1e-9);
+  EXPECT_TRUE(ok.continuum.dm_inv[0].allFinite());
+  EXPECT_GT(ok.continuum.dm_inv[0].norm(), 0.0);
+  // Without the term nothing is stored.
+  o.terms = msd::kSprings;
+  EXPECT_TRUE(msd::build_model(s.mesh, o).continuum.constants.empty());
 }
 
 TEST(Model, VolumeGroupsFromTheLatticesCubesHoldFiveTetsEightNodesAndTheCubesVolume) {

@@ -82,10 +82,14 @@ struct Element {
   double rest_height[4];   ///< vertex i over the plane of its opposite face
   double floor = 0.01;     ///< repulsion tangent continuation (fraction of x0)
   ElementConstants k;
-  /// The continuum element's rest data (kNeoHookean only; else zero):
-  /// D_m^-1 and the energy's constants.
-  Mat3 dm_inv{Mat3::Zero()};
-  SnhConstants snh{};
+};
+
+/// The continuum element's rest data per tet (msd/forces/stable_neo_hookean.hpp;
+/// kNeoHookean only, else empty: the thesis' element data stays as compact as
+/// before): D_m^-1 and the energy's constants, T entries each.
+struct ContinuumElements {
+  std::vector<Mat3> dm_inv;
+  std::vector<SnhConstants> constants;
 };
 
 /// The element terms laid out for the fast force evaluation
@@ -206,6 +210,7 @@ struct Model {
   std::vector<Tet> contact_tets;      ///< the elements' nodes (for self_contact)
   std::vector<char> kinematic;        ///< per node: in a kinematic group (for self_contact)
   ForcePlan plan;   ///< the fast evaluation's layout (build_model)
+  ContinuumElements continuum;  ///< the continuum element's rest data (kNeoHookean)
   VolumeGroups volume_groups;  ///< the continuum element's (ModelOptions::volume_group)
   int threads = 1;  ///< threads of the force evaluation (results do not depend on it)
   /// Evaluate with the per-tet reference loop instead of the engine (the path
