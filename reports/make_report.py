@@ -48,7 +48,8 @@ Y_LABEL = {
     "tip_displacement": "tip displacement (m)",
     "indentation_force": "indentation force (N)",
 }
-VARIANT_STYLE = {"thesis": ("tab:red", "--"), "physical": ("tab:blue", "-"), "calibrated": ("tab:green", "-")}
+VARIANT_STYLE = {"thesis": ("tab:red", "--"), "physical": ("tab:blue", "-"), "calibrated": ("tab:green", "-"),
+                 "continuum": ("tab:purple", "-.")}
 
 
 def closed_form(fem_path, loading):
@@ -116,6 +117,9 @@ def benchmark_section(d, b):
             "disp": pct(cmp and cmp["displacement_rel_rms"]), "freq": pct(cmp and cmp["frequency_rel_error"]),
             "zeta": num(cmp and cmp["damping_ratio_abs_error"], 3),
             "cost": num(cmp and cmp["msd_cost"], 3), "ratio": num(cmp and cmp["cost_ratio"], 3),
+            "error_value": cmp and (cmp["load_rel_rms_working"] if cmp["load_rel_rms_working"] is not None
+                                    else cmp["load_rel_rms"]),
+            "ratio_value": cmp and cmp["cost_ratio"],
         })
     cmp0 = next((c for _, _, c in runs if c), None)
     ykey = cmp0["load_series"] if cmp0 else None
@@ -162,6 +166,47 @@ def benchmark_section(d, b):
             "fem_frequency": num(cmp0 and cmp0["frequency_fem"], 4)}
 
 
+LADDER_MARKERS = "osD^vP*X"
+
+
+def ladder_section(benches, variants):
+    """The model ladder: every variant's cost ratio MSD/FEM against its load-curve
+    error (working range where the benchmark has one), one marker per benchmark,
+    one colour per variant, and the same figures as a table."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    for v in variants:
+        colour, _ = VARIANT_STYLE.get(v, ("tab:gray", ":"))
+        for k, b in enumerate(benches):
+            r = next((r for r in b["rows"] if r["variant"] == v), None)
+            if not r or r["status"] != "complete" or not r["error_value"] or not r["ratio_value"]:
+                continue
+            ax.scatter([r["ratio_value"]], [100 * r["error_value"]], color=colour,
+                       marker=LADDER_MARKERS[k % len(LADDER_MARKERS)], s=34, alpha=0.85)
+    for v in variants:
+        ax.scatter([], [], color=VARIANT_STYLE.get(v, ("tab:gray", ":"))[0], marker="o", label="MSD, " + v)
+    for k, b in enumerate(benches):
+        ax.scatter([], [], color="0.4", marker=LADDER_MARKERS[k % len(LADDER_MARKERS)], label=b["name"])
+    ax.axvline(1.0, color="k", lw=1, ls="--", label="the FEM's own cost")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("cost ratio MSD / FEM (CPU s per simulated s)")
+    ax.set_ylabel("load-curve error against the FEM (%)")
+    ax.set_title("the model ladder: what each variant trades")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
+    rows = []
+    for b in benches:
+        cells = []
+        for v in variants:
+            r = next((r for r in b["rows"] if r["variant"] == v), None)
+            if not r or r["status"] != "complete":
+                cells.append("blew up" if r else "–")
+            else:
+                cells.append("%s at %s" % (pct(r["error_value"]), r["ratio"]))
+        rows.append({"name": b["name"], "cells": cells})
+    return {"figure": png(fig), "rows": rows}
+
+
 def sweep_section(d, path):
     s = load(os.path.join(d, path))
     pts = [p for p in s["points"] if p["status"] == "complete"]
@@ -170,7 +215,8 @@ def sweep_section(d, path):
         return p["load_rel_rms_working"] if p["load_rel_rms_working"] is not None else p["load_rel_rms"]
 
     fig, ax = plt.subplots(figsize=(6.0, 4.2))
-    for terms, marker in (("all", "o"), ("springs_dampers", "s"), ("no_repulsion", "^"), ("no_volume", "v")):
+    for terms, marker in (("all", "o"), ("springs_dampers", "s"), ("no_repulsion", "^"), ("no_volume", "v"),
+                          ("continuum", "P")):
         sel = [p for p in pts if p["terms"] == terms and p["integrator"] != "cvode" and err(p) is not None]
         if sel:
             ax.scatter([p["cost"] for p in sel], [100 * err(p) for p in sel], marker=marker, s=28,
@@ -211,6 +257,7 @@ def main(d):
     m = load(os.path.join(d, "suite.json"))
     benches = [benchmark_section(d, b) for b in m.get("benchmarks", [])]
     sweeps = [sweep_section(d, p) for p in m.get("sweeps", [])]
+    ladder = ladder_section(benches, m.get("variants", [])) if benches else None
     try:
         legs = leg_report.leg_section(d, m)
     except leg_report.LegRenderError as e:
@@ -227,7 +274,7 @@ def main(d):
     prov = dict(m.get("provenance", {}))
     prov.update({"python": platform.python_version(), "matplotlib": matplotlib.__version__,
                  "h5py": h5py.__version__, "jinja2": jinja2.__version__})
-    ctx = {"m": m, "prov": prov, "benches": benches, "sweeps": sweeps, "stability": stability,
+    ctx = {"m": m, "prov": prov, "benches": benches, "sweeps": sweeps, "ladder": ladder, "stability": stability,
            "verification": m.get("verification", []), "convergence": convergence, "pct": pct, "num": num,
            "legs": legs, "leg_sources": leg_report.pendulum_sources() if any(s["published"] for s in legs) else []}
     env = jinja2.Environment(loader=jinja2.FileSystemLoader(os.path.dirname(os.path.abspath(__file__))),

@@ -120,7 +120,19 @@ Spec suite_variant(const Spec& spec, const std::string& variant, const std::stri
       n["msd"]["calibration"] = file;
     });
   }
-  throw msd::Error("suite: unknown variant '" + variant + "' (thesis, physical, calibrated)");
+  if (variant == "continuum") {
+    // The model ladder's continuum rung on the same mesh, constants and steps:
+    // the stable neo-Hookean tet from the material's E and nu with one volume
+    // ratio per cube (msd/forces/stable_neo_hookean.hpp) and the spec's edge
+    // dampers, in place of the springs, repulsion and volume terms.
+    if (spec.msd->constants != "physical" || !spec.material.poisson_ratio)
+      throw msd::Error(spec.path + ": the continuum variant needs physical constants and material.poisson_ratio");
+    return spec_variant(spec, [&](YAML::Node& n) {
+      n["msd"]["terms"] = std::vector<std::string>{"neo_hookean", "dampers"};
+      n["msd"]["continuum_volume"] = "per_cube";
+    });
+  }
+  throw msd::Error("suite: unknown variant '" + variant + "' (thesis, physical, calibrated, continuum)");
 }
 
 SuiteTier load_tier(const std::string& path) {
@@ -133,8 +145,8 @@ SuiteTier load_tier(const std::string& path) {
   t.description = f.text_or("description", "");
   t.variants = f.has("variants") ? f.text_list("variants") : std::vector<std::string>{"physical"};
   for (const auto& v : t.variants)
-    if (v != "thesis" && v != "physical" && v != "calibrated")
-      throw msd::Error(f.where("variants") + "unknown variant '" + v + "' (thesis, physical, calibrated)");
+    if (v != "thesis" && v != "physical" && v != "calibrated" && v != "continuum")
+      throw msd::Error(f.where("variants") + "unknown variant '" + v + "' (thesis, physical, calibrated, continuum)");
   auto items = [&](const std::string& key, const std::function<void(const Fields&)>& each) {
     const YAML::Node list = root[key];
     if (!list) return;

@@ -25,7 +25,7 @@ TEST(Suite, ShippedTiersLoadAndNameTheirSpecs) {
   for (const char* tier : {"quick", "full"}) {
     const bench::SuiteTier t = bench::load_tier(std::string(TISSUEBENCH_SUITES_DIR) + "/" + tier + ".yaml");
     EXPECT_EQ(t.name, tier);
-    EXPECT_EQ(t.variants, (std::vector<std::string>{"thesis", "physical", "calibrated"}));
+    EXPECT_EQ(t.variants, (std::vector<std::string>{"thesis", "physical", "calibrated", "continuum"}));
     EXPECT_GE(t.benchmarks.size(), 5u);
     EXPECT_FALSE(t.sweeps.empty());
     EXPECT_FALSE(t.stability.empty());
@@ -81,4 +81,15 @@ TEST(Suite, VariantsSetTheThesisConstantsOrTheMaterialsCalibration) {
   EXPECT_EQ(calibrated.mesh->spacing, spec.mesh->spacing);
   EXPECT_EQ(bench::suite_variant(spec, "physical", cal).text, spec.text);
   EXPECT_THROW(bench::suite_variant(spec, "tuned", cal), msd::Error);
+  // The continuum rung: the neo-Hookean tets with cube volumes on the same mesh and steps.
+  const bench::Spec continuum = bench::suite_variant(spec, "continuum", cal);
+  EXPECT_EQ(continuum.msd->terms, (std::vector<std::string>{"neo_hookean", "dampers"}));
+  EXPECT_EQ(continuum.msd->continuum_volume, "per_cube");
+  EXPECT_EQ(continuum.msd->integrator, spec.msd->integrator);
+  EXPECT_DOUBLE_EQ(continuum.msd->dt, spec.msd->dt);
+  EXPECT_EQ(continuum.mesh->spacing, spec.mesh->spacing);
+  // It needs the material's Poisson's ratio.
+  std::string no_nu = cylinder.text;
+  no_nu.replace(no_nu.find("material: {library: non_muscular_tissue}"), 41, "material: {density: 920, youngs_modulus: 2990}");
+  EXPECT_THROW(bench::suite_variant(bench::parse_spec(no_nu, "no_nu.yaml"), "continuum", cal), msd::Error);
 }
