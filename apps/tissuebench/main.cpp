@@ -153,7 +153,7 @@ int dispatch(int argc, char** argv) {
                         "Fixed-step integrators (default: symplectic_euler,velocity_verlet,explicit_euler)")
       ->delimiter(',');
   sweep_cmd->add_option("--terms", sweep.terms,
-                        "Term sets: all, no_repulsion, no_volume, springs_dampers (default: all four)")
+                        "Term sets: all, no_repulsion, no_volume, springs_dampers, continuum (default: the first four)")
       ->delimiter(',');
   sweep_cmd->add_option("--thresholds", sweep.thresholds, "Non-linear thresholds: off or a value in (0,1] "
                                                           "(default: off,0.7)")
@@ -183,7 +183,7 @@ int dispatch(int argc, char** argv) {
   stability_cmd->add_option("--integrators", stability.integrators, "Integrators of the dt search")
       ->delimiter(',')
       ->capture_default_str();
-  stability_cmd->add_option("--terms", stability.terms, "Term sets (all, no_repulsion, no_volume, springs_dampers)")
+  stability_cmd->add_option("--terms", stability.terms, "Term sets (all, no_repulsion, no_volume, springs_dampers, continuum)")
       ->delimiter(',')
       ->capture_default_str();
   stability_cmd->add_flag("--no-dt-search", stability.no_dt_search, "Skip the time-step bisection");

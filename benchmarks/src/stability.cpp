@@ -101,7 +101,8 @@ DtSearch search_dt(const Spec& spec, const std::string& integrator, const std::s
     return run_trial(spec_variant(spec, [&](YAML::Node& n) {
       n["msd"]["integrator"] = integrator;
       n["msd"]["dt"] = dt;
-      n["msd"]["terms"] = term_set(terms);
+      YAML::Node m = n["msd"];
+      set_term_set(m, terms);
     }));
   };
   const TrialOutcome ref = at(d.reference_dt);
@@ -174,14 +175,17 @@ std::vector<ExtremeRow> run_extremes(const Spec& spec, const std::vector<std::st
   };
   std::vector<ExtremeRow> rows;
   // The explicit rows: each term set with the spec's integrator. The implicit
-  // rows: backward Euler with the full model (every term), at the step the
-  // case's output needs (its duration / 200) however stiff the case is.
+  // rows: backward Euler with the full model (every term), and BDF2 with the
+  // continuum rung, at the step the case's output needs (its duration / 200)
+  // however stiff the case is.
   struct Run {
     std::string integrator, terms;
   };
   std::vector<Run> runs;
   for (const auto& terms : term_sets) runs.push_back({spec.msd->integrator, terms});
   if (!msd::is_implicit(msd::parse_integrator(spec.msd->integrator))) runs.push_back({"backward_euler", "all"});
+  // The continuum rung, implicit, where the spec's material has a Poisson's ratio.
+  if (spec.material.poisson_ratio) runs.push_back({"bdf2", "continuum"});
   for (const Case& k : cases)
     for (const Run& run : runs) {
       const std::string& terms = run.terms;
@@ -208,7 +212,8 @@ std::vector<ExtremeRow> run_extremes(const Spec& spec, const std::vector<std::st
             path.push_back(pt);
           }
           n["loading"]["path"] = path;
-          n["msd"]["terms"] = term_set(terms);
+          YAML::Node m = n["msd"];
+          set_term_set(m, terms);
           n["msd"]["integrator"] = run.integrator;
           n["msd"]["dt"] = dt;
           if (k.volume_factor >= 0) n["msd"]["volume_factor"] = k.volume_factor;

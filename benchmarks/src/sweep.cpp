@@ -158,7 +158,16 @@ std::vector<std::string> term_set(const std::string& name) {
   if (name == "no_repulsion") return {"springs", "dampers", "volume"};
   if (name == "no_volume") return {"springs", "dampers", "repulsion"};
   if (name == "springs_dampers") return {"springs", "dampers"};
-  throw msd::Error("sweep: unknown term set '" + name + "' (expected all, no_repulsion, no_volume, springs_dampers)");
+  if (name == "continuum") return {"neo_hookean", "dampers"};
+  throw msd::Error("sweep: unknown term set '" + name + "' (expected all, no_repulsion, no_volume, springs_dampers, continuum)");
+}
+
+void set_term_set(YAML::Node& msd, const std::string& name) {
+  msd["terms"] = term_set(name);
+  if (name == "continuum")
+    msd["continuum_volume"] = "per_cube";
+  else if (msd["continuum_volume"])
+    msd.remove("continuum_volume");
 }
 
 std::vector<SweepPoint> sweep_points(const Spec& spec, const SweepGrid& g) {
@@ -232,7 +241,7 @@ std::string point_spec_text(const Spec& spec, const SweepPoint& p) {
     m.remove("atol");
     m["dt"] = p.dt;
   }
-  m["terms"] = term_set(p.terms);
+  set_term_set(m, p.terms);
   if (p.threshold > 0.0) m["nonlinear_threshold"] = p.threshold;
   else m["nonlinear_threshold"] = "off";
   if (spec.msd && !spec.msd->calibration.empty()) m["calibration"] = fs::absolute(spec.msd->calibration).string();

@@ -18,6 +18,8 @@
 
 #include "bench/spec.hpp"
 
+#include <yaml-cpp/yaml.h>
+
 #include <functional>
 #include <limits>
 #include <string>
@@ -31,7 +33,7 @@ struct SweepGrid {
   std::vector<double> spacing;                ///< m; default: the spec's h and 2h
   std::vector<double> dt;                     ///< s; default: the spec's dt and 2.5 dt
   std::vector<std::string> integrators;       ///< default: symplectic_euler, velocity_verlet, explicit_euler
-  std::vector<std::string> term_sets;         ///< all | no_repulsion | no_volume | springs_dampers (default: all four)
+  std::vector<std::string> term_sets;         ///< all | no_repulsion | no_volume | springs_dampers | continuum (default: the first four)
   std::vector<double> thresholds;             ///< 0 = off; default: off and 0.7
   bool cvode = true;                          ///< add the CVODE point of each spatial configuration
   /// FEM runs besides the reference, as (degree, refinement) on the spec's
@@ -42,6 +44,11 @@ struct SweepGrid {
 
 /// The msd force terms of a named term set.
 std::vector<std::string> term_set(const std::string& name);
+
+/// Sets a spec's msd section (a YAML map) to the term set `name`: its terms,
+/// and for `continuum` (the neo_hookean term with the dampers) one volume
+/// ratio per cube (msd.continuum_volume: per_cube).
+void set_term_set(YAML::Node& msd, const std::string& name);
 
 struct SweepPoint {
   int id = 0;
