@@ -51,7 +51,7 @@ std::vector<Parameter> declare_model() {
       other("material.name", Kind::Text, "", "empty", "a label"),
       number("material.density", "kg/m^3", std::nullopt, positive, "required (or from the library)"),
       optional_number("material.youngs_modulus", "Pa", positive, "required when msd.constants is physical"),
-      optional_number("material.poisson_ratio", "1", Range::open(-1, 0.5), "for the fem solver; the MSD lattice's own is 0.2"),
+      optional_number("material.poisson_ratio", "1", Range::open(-1, 0.5), "for the fem solver and the msd term neo_hookean; the MSD lattice's own is 0.2"),
       optional_number("material.shear_modulus", "Pa", positive, "fem alternative to youngs_modulus + poisson_ratio, with bulk_modulus"),
       optional_number("material.bulk_modulus", "Pa", positive, "fem alternative to youngs_modulus + poisson_ratio, with shear_modulus"),
       optional_number("material.damping_time", "s", non_negative, "stiffness-proportional damping: k_d = b k_s (msd), C = b K0 (fem)"),

@@ -134,6 +134,9 @@ void read_run(const Fields& f, const std::string& path, LegScene& s) {
       } catch (const msd::Error& e) {
         throw msd::Error(f.where("terms") + e.what());
       }
+      if (t == "neo_hookean")
+        throw msd::Error(f.where("terms") + "neo_hookean needs a Poisson's ratio, which leg materials do not carry: "
+                                            "the continuum element runs in benchmark specs only");
     }
   }
   o.nonlinear_threshold = number(f, "nonlinear_threshold");

@@ -81,9 +81,11 @@ struct ExtremeRow {
 /// spec's dt scaled by sqrt(E_spec / E_case) or sqrt(k_spec / k_case) for the
 /// stiffness and volume-factor cases, as the explicit limit scales), and if that
 /// run fails, again at 1/4 and then 1/16 of it until one stays finite. With
-/// an explicit spec integrator, also backward Euler with every term and - when
-/// the material has a Poisson's ratio - BDF2 with the continuum rung, at the
-/// case's duration / 200.
+/// an explicit spec integrator, also backward Euler with every term; and
+/// whatever the spec's integrator, when the material has a Poisson's ratio,
+/// BDF2 with the continuum rung; both at the case's duration / 200. (The
+/// continuum element has no volume factor: its volume_factor_1000 row is the
+/// case's strain path alone.)
 std::vector<ExtremeRow> run_extremes(const Spec& spec, const std::vector<std::string>& term_sets,
                                      const std::function<void(const std::string&)>& log = {});
 
