@@ -142,6 +142,8 @@ tbio::Json summary_json(const LegRunSummary& s, const LegScene& scene) {
   j["frames"] = s.frames;
   j["nodes"] = s.nodes;
   j["tets"] = s.tets;
+  j["warnings"] = tbio::Json::array();
+  for (const std::string& w : s.warnings) j["warnings"].push_back(w);
   j["values"] = tbio::Json::object();
   for (const auto& [k, v] : s.values) j["values"][k] = std::isfinite(v) ? tbio::Json(v) : tbio::Json(nullptr);
   j["knee_angle_trajectory_deg"] = tbio::Json::array();

@@ -93,7 +93,9 @@ void write_leg_checkpoint(const std::string& path, const std::string& input_hash
   w.number(l.state.knee.angle);
   w.number(l.state.knee.velocity);
   const msd::LegControls& c = l.controls;
-  w.numbers({c.front_activation, c.back_activation, c.joint_torque});
+  std::vector<double> scalars{c.front_activation, c.back_activation, c.joint_torque};
+  scalars.insert(scalars.end(), l.state.activation.begin(), l.state.activation.end());  // activation dynamics' state
+  w.numbers(scalars);
   w.numbers(c.tendon_length_scale);
   w.numbers(c.strand_natural_length);
   w.numbers(c.scripted_knee ? std::vector<double>{c.scripted_knee->angle, c.scripted_knee->velocity}
@@ -130,11 +132,12 @@ LegLoop read_leg_checkpoint(tbio::CheckpointReader& r, const msd::LegModel& leg,
   c.tendon_length_scale = r.numbers();
   c.strand_natural_length = r.numbers();
   const std::vector<double> knee = r.numbers();
-  if (scalars.size() != 3 || (knee.size() != 0 && knee.size() != 2))
+  if ((scalars.size() != 3 && scalars.size() != 5) || (knee.size() != 0 && knee.size() != 2))
     throw msd::Error(r.path() + ": the checkpoint is damaged (controls)");
   c.front_activation = scalars[0];
   c.back_activation = scalars[1];
   c.joint_torque = scalars[2];
+  l.state.activation.assign(scalars.begin() + 3, scalars.end());
   if (knee.size() == 2) c.scripted_knee = msd::HingeState{knee[0], knee[1]};
   for (std::vector<msd::Vec3>* v : {&c.obstacle_offset, &c.obstacle_velocity}) {
     const msd::Points p = r.points();
@@ -312,6 +315,17 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
   std::vector<std::string> obstacle_names;
   for (const msd::RigidObstacle& ob : leg.obstacles) obstacle_names.push_back(ob.name);
   sum.values = summarise(std::move(recorded), scene, leg.tendon_names, obstacle_names, leg.joint_space_tets);
+  for (const std::string& t : leg.tendon_names) {
+    const auto it = sum.values.find("tendon_" + t + "_strain_max");
+    if (it != sum.values.end() && it->second > scene.tendon_failure_strain) {
+      char w[256];
+      std::snprintf(w, sizeof w,
+                    "tendon %s: a strand reached %.1f %% strain, past the failure strain %.1f %% "
+                    "(tendons.failure_strain): a real tendon would have torn",
+                    t.c_str(), 100.0 * it->second, 100.0 * scene.tendon_failure_strain);
+      sum.warnings.push_back(w);
+    }
+  }
   finish_leg_files(sum, scene, in, writer, l.frame_times, dir);
   // A completed run's checkpoint (written now, or resumed from) is of no more use.
   const bool resumed_here = !cp.resume.empty() && fs::equivalent(cp.resume, leg_checkpoint_path(dir), ignore);
@@ -400,6 +414,7 @@ std::string format_leg_summary(const LegRunSummary& s) {
                 s.wall_seconds, s.wall_per_simulated(), s.frames);
   o << line;
   if (!s.failure.empty()) o << "  failure: " << s.failure << "\n";
+  for (const std::string& w : s.warnings) o << "  warning: " << w << "\n";
   for (const auto& [k, v] : s.values) {
     std::snprintf(line, sizeof line, "  %-44s %12.5g\n", k.c_str(), v);
     o << line;

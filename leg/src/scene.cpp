@@ -197,7 +197,7 @@ void read_knee(const Fields& knee, LegScene& s) {
 }
 
 void read_tendons(const Fields& t, LegScene& s) {
-  t.only({"modulus", "moduli", "strand_area", "insertions", "engage_at", "pretension"});
+  t.only({"modulus", "moduli", "strand_area", "insertions", "engage_at", "pretension", "toe_strain", "failure_strain"});
   msd::LegModelOptions& o = s.model;
   if (const auto m = t.optional_section("moduli")) {
     for (const auto& kv : m->node()) {
@@ -209,6 +209,8 @@ void read_tendons(const Fields& t, LegScene& s) {
   s.insert_at_path_end = tbio::read_choice(t, leg_scene_parameter("tendons.insertions")) == "path";
   o.tendon_modulus = number(t, "tendons.modulus");
   o.strand_area = number(t, "tendons.strand_area");
+  o.tendon_toe_strain = number(t, "tendons.toe_strain");
+  s.tendon_failure_strain = number(t, "tendons.failure_strain");
   if (const auto p = t.optional_section("pretension")) {
     p->only({"fraction", "start", "duration"});
     s.pretension_fraction = number(*p, "tendons.pretension.fraction");
@@ -218,9 +220,34 @@ void read_tendons(const Fields& t, LegScene& s) {
 }
 
 void read_muscles(const Fields& m, const std::string& path, LegScene& s) {
-  m.only({"max_stress", "force_length_zero", "unit_angle_deg", "front_line", "back_line", "script", "activation"});
+  m.only({"max_stress", "force_length_zero", "unit_angle_deg", "front_line", "back_line", "script", "activation", "law",
+          "hill", "activation_time", "deactivation_time"});
   msd::LegModelOptions& o = s.model;
   o.max_muscle_stress = number(m, "muscles.max_stress");
+  o.hill.enabled = tbio::read_choice(m, leg_scene_parameter("muscles.law")) == "hill";
+  if (const auto h = m.optional_section("hill")) {
+    if (!o.hill.enabled) throw msd::Error(m.where("hill") + "only meaningful with 'law: hill'");
+    h->only({"rest_fibre_stretch", "active_width", "passive_strain", "passive_shape", "force_velocity", "max_velocity",
+             "curvature", "eccentric_max"});
+    o.hill.rest_fibre_stretch = number(*h, "muscles.hill.rest_fibre_stretch");
+    o.hill.active_width = number(*h, "muscles.hill.active_width");
+    o.hill.passive_strain = number(*h, "muscles.hill.passive_strain");
+    o.hill.passive_shape = number(*h, "muscles.hill.passive_shape");
+    o.hill.force_velocity = tbio::read_flag(*h, leg_scene_parameter("muscles.hill.force_velocity"));
+    o.hill.max_velocity = number(*h, "muscles.hill.max_velocity");
+    o.hill.curvature = number(*h, "muscles.hill.curvature");
+    o.hill.eccentric_max = number(*h, "muscles.hill.eccentric_max");
+  }
+  if (o.hill.enabled) {
+    if (m.has("force_length_zero"))
+      throw msd::Error(m.where("force_length_zero") + "belongs to the thesis law; with 'law: hill' the curve is muscles.hill.active_width");
+    if (o.hill.force_velocity && !msd::is_implicit(s.integrator))
+      throw msd::Error(m.where("law") + "the Hill law's force-velocity relation damps each unit far more than the "
+                       "tissue's dampers (about F_max's share / optimal length); it needs 'integrator: backward_euler' "
+                       "or 'bdf2', or 'hill: {force_velocity: false}'");
+  }
+  o.activation_time = number(m, "muscles.activation_time");
+  o.deactivation_time = number(m, "muscles.deactivation_time");
   if (m.has("force_length_zero")) {
     if (m.text("force_length_zero") == "none") {
       o.force_length.enabled = false;

@@ -236,11 +236,20 @@ std::vector<Sensor> leg_sensors(const Instruments& in) {
       {"joint_reaction_x", "N", [](const Frame& f) { return f.scratch->joint_reaction.x(); }},
       {"joint_reaction_y", "N", [](const Frame& f) { return f.scratch->joint_reaction.y(); }},
       {"joint_reaction_z", "N", [](const Frame& f) { return f.scratch->joint_reaction.z(); }},
-      {"front_activation", "1", [](const Frame& f) { return f.controls->front_activation; }},
-      {"back_activation", "1", [](const Frame& f) { return f.controls->back_activation; }}};
+      // The muscles' activations: the state's under activation dynamics, else the controls'.
+      {"front_activation", "1", [](const Frame& f) {
+         return f.state->activation.size() == 2 ? f.state->activation[0] : f.controls->front_activation;
+       }},
+      {"back_activation", "1", [](const Frame& f) {
+         return f.state->activation.size() == 2 ? f.state->activation[1] : f.controls->back_activation;
+       }}};
   for (size_t k = 0; k < leg.tendon_names.size(); ++k)
     s.push_back({"tension_" + leg.tendon_names[k], "N", [k](const Frame& f) {
                    return k < f.scratch->tendon_tension.size() ? f.scratch->tendon_tension[k] : 0.0;
+                 }});
+  for (size_t k = 0; k < leg.tendon_names.size(); ++k)
+    s.push_back({"strain_" + leg.tendon_names[k], "1", [k](const Frame& f) {
+                   return k < f.scratch->tendon_strain.size() ? f.scratch->tendon_strain[k] : 0.0;
                  }});
   for (size_t k = 0; k < leg.tendon_names.size(); ++k)
     s.push_back({"straightness_" + leg.tendon_names[k], "1", [k](const Frame& f) { return f.straightness[k]; }});

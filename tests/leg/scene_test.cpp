@@ -260,3 +260,61 @@ TEST(LegScene, TheIntegratorAndItsNewtonSettingsAreReadAndMisuseIsRefused) {
   EXPECT_NE(e.find("terms"), std::string::npos) << e;
   EXPECT_NE(e.find("Poisson"), std::string::npos) << e;
 }
+
+TEST(LegScene, TheHillLawRealTendonsAndActivationDynamicsAreReadAndMisuseIsRefused) {
+  // hamstrings.yaml's muscles section: "muscles:\n  max_stress: 1.0e6\n  force_length_zero: 0.2\n".
+  const std::string dir = (fs::path(TB_TEST_OUTPUT_DIR) / "leg_scene_test").string();
+  const std::string thesis_muscles = "muscles:\n  max_stress: 1.0e6\n  force_length_zero: 0.2\n";
+  auto hill = [&](const std::string& run, const std::string& muscles, const std::string& name) {
+    const std::string with_run = variant_of("hamstrings", "dt: 2.0e-4", run, dir + "/" + name + "_run.yaml");
+    const std::string text = read_text(with_run);
+    std::string out = text;
+    const size_t at = out.find(thesis_muscles);
+    EXPECT_NE(at, std::string::npos);
+    out.replace(at, thesis_muscles.size(), muscles);
+    const std::string path = dir + "/" + name + ".yaml";
+    std::ofstream(path) << out;
+    return path;
+  };
+  const std::string bdf2 = "dt: 2.0e-4\nintegrator: bdf2";
+  std::string f = hill(bdf2,
+                       "muscles:\n  max_stress: 2.5e5\n  law: hill\n  hill: {rest_fibre_stretch: 0.95, max_velocity: 8}\n"
+                       "  activation_time: 0.01\n  deactivation_time: 0.04\n",
+                       "hill");
+  leg::LegScene s = leg::read_leg_scene(f);
+  EXPECT_TRUE(s.model.hill.enabled);
+  EXPECT_DOUBLE_EQ(s.model.hill.rest_fibre_stretch, 0.95);
+  EXPECT_DOUBLE_EQ(s.model.hill.max_velocity, 8.0);
+  EXPECT_DOUBLE_EQ(s.model.hill.active_width, msd::HillMuscle{}.active_width);
+  EXPECT_DOUBLE_EQ(s.model.activation_time, 0.01);
+  EXPECT_DOUBLE_EQ(s.model.deactivation_time, 0.04);
+  EXPECT_FALSE(leg::read_leg_scene(scenes() + "hamstrings.yaml").model.hill.enabled);  // the thesis law by default
+  // Tendons: the toe and the failure strain.
+  f = variant_of("hamstrings", "strand_area: 2.0e-5", "strand_area: 2.0e-5\n  toe_strain: 0.03\n  failure_strain: 0.08",
+                 dir + "/toe.yaml");
+  s = leg::read_leg_scene(f);
+  EXPECT_DOUBLE_EQ(s.model.tendon_toe_strain, 0.03);
+  EXPECT_DOUBLE_EQ(s.tendon_failure_strain, 0.08);
+  // Refused, naming the file and field: the force-velocity relation with an
+  // explicit integrator, Hill settings without the Hill law, a curve that is
+  // not a curve, the thesis' limb with the Hill law, a toe past 20 %.
+  auto refused = [&](const std::string& path, const std::string& field) {
+    const std::string e = error_of(path);
+    EXPECT_NE(e.find(fs::path(path).filename().string() + ":"), std::string::npos) << e;
+    EXPECT_NE(e.find(field), std::string::npos) << e;
+  };
+  refused(hill("dt: 2.0e-4", "muscles:\n  max_stress: 2.5e5\n  law: hill\n", "hill_explicit"), "law");
+  EXPECT_NE(error_of(dir + "/hill_explicit.yaml").find("integrator: backward_euler"), std::string::npos);
+  EXPECT_NO_THROW(leg::read_leg_scene(
+      hill("dt: 2.0e-4", "muscles:\n  max_stress: 2.5e5\n  law: hill\n  hill: {force_velocity: false}\n", "hill_no_fv")));
+  refused(hill(bdf2, "muscles:\n  max_stress: 2.5e5\n  hill: {active_width: 0.4}\n", "hill_without_law"), "hill");
+  refused(hill(bdf2, "muscles:\n  max_stress: 2.5e5\n  law: hill\n  hill: {active_width: 1.5}\n", "hill_width"),
+          "active_width");
+  refused(hill(bdf2, "muscles:\n  max_stress: 2.5e5\n  law: hill\n  hill: {rest_fibre_stretch: 0}\n", "hill_stretch"),
+          "rest_fibre_stretch");
+  refused(hill(bdf2, "muscles:\n  max_stress: 2.5e5\n  law: hill\n  force_length_zero: 0.5\n", "hill_thesis_limb"),
+          "force_length_zero");
+  refused(hill(bdf2, "muscles:\n  max_stress: 2.5e5\n  activation_time: -0.01\n", "negative_tau"), "activation_time");
+  refused(variant_of("hamstrings", "strand_area: 2.0e-5", "strand_area: 2.0e-5\n  toe_strain: 0.3", dir + "/toe_big.yaml"),
+          "toe_strain");
+}

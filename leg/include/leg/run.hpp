@@ -24,6 +24,9 @@ struct LegRunSummary {
   long newton_iterations = 0, step_cuts = 0, factorizations = 0;  ///< backward Euler's, over the run (since a resume)
   /// Scalar results by name (knee angles in degrees, areas in m^2, ...).
   std::map<std::string, double> values;
+  /// What the run did that the user must know (e.g. a tendon strained past
+  /// failure); in summary.json's "warnings" and printed.
+  std::vector<std::string> warnings;
   /// Knee angle (deg) every 0.2 s: (time, angle).
   std::vector<std::pair<double, double>> trajectory;
   double wall_per_simulated() const { return simulated > 0.0 ? wall_seconds / simulated : 0.0; }

@@ -45,6 +45,7 @@ struct LegScene {
   msd::Keyframes<double> joint_torque;                      ///< N m
   bool insert_at_path_end = true;
   std::optional<double> tendons_engage_at;
+  double tendon_failure_strain = 0.1;  ///< the summary warns past it
   double pretension_fraction = 0.0, pretension_start = 0.0, pretension_duration = 0.0;
   std::optional<msd::ActivationScript> script;
   std::string script_path;

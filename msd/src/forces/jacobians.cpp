@@ -1,6 +1,8 @@
 #include "msd/forces/jacobians.hpp"
 
 #include "msd/forces/face_repulsion.hpp"
+#include "msd/forces/muscle_units.hpp"
+#include "msd/forces/tendon.hpp"
 #include "msd/forces/tet_frame.hpp"
 #include "msd/forces/volume_preservation.hpp"
 
@@ -128,13 +130,29 @@ Mat3 muscle_unit_jacobian(const Vec3& l, double rest_length, double force, const
   return (force * fL / len) * (Mat3::Identity() - uu) + (force * slope / rest_length) * uu;
 }
 
-bool strand_jacobian(const Points& p, double natural_length, double k_t, Eigen::MatrixXd& K) {
+void hill_unit_jacobians(const Vec3& l, const Vec3& w, double rest_length, double activation, double unit_force,
+                         const HillMuscle& hill, Mat3& dfa_dl, Mat3& dfa_dw) {
+  const double len = l.norm();
+  if (!(len > 0.0)) {
+    dfa_dl.setZero();
+    dfa_dw.setZero();
+    return;
+  }
+  const Vec3 u = l / len;
+  const UnitTension t = hill_unit_tension(len, u.dot(w), rest_length, activation, unit_force, hill);
+  const Mat3 uu = u * u.transpose();
+  dfa_dl = (t.T / len) * (Mat3::Identity() - uu) + t.dT_dlength * uu;
+  dfa_dw = t.dT_drate * uu;
+}
+
+bool strand_jacobian(const Points& p, double natural_length, double k_t, Eigen::MatrixXd& K, double toe) {
   const Eigen::Index m = p.cols();
   if (K.rows() != 3 * m || K.cols() != 3 * m) K.resize(3 * m, 3 * m);
   K.setZero();
   double length = 0.0;
   for (Eigen::Index s = 0; s + 1 < m; ++s) length += (p.col(s + 1) - p.col(s)).norm();
-  const double tension = k_t * (length - natural_length);
+  double slope = 0.0;
+  const double tension = tendon_tension(length, natural_length, k_t, toe, &slope);
   if (!(tension > 0.0)) return false;
   // g_i = u_{i-1} - u_i; the curvature blocks of sum |d_s|.
   Eigen::VectorXd g = Eigen::VectorXd::Zero(3 * m);
@@ -151,7 +169,7 @@ bool strand_jacobian(const Points& p, double natural_length, double k_t, Eigen::
     K.block<3, 3>(3 * s, 3 * (s + 1)) += c;
     K.block<3, 3>(3 * (s + 1), 3 * s) += c;
   }
-  K.noalias() -= k_t * g * g.transpose();
+  K.noalias() -= slope * g * g.transpose();
   return true;
 }
 

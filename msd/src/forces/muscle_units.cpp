@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <set>
+#include <sstream>
 #include <string>
 
 namespace msd {
@@ -61,6 +62,115 @@ void add_muscle_forces(const Points& x, const std::vector<ContractileUnit>& unit
     f.col(u.a) += pull;
     f.col(u.b) -= pull;
   }
+}
+
+}  // namespace msd
+
+namespace msd {
+
+namespace {
+std::string num(double v) {
+  std::ostringstream o;
+  o << v;
+  return o.str();
+}
+}  // namespace
+
+void check_hill_muscle(const HillMuscle& h, const std::string& where) {
+  auto need = [&](bool ok, const char* field, const char* rule, double value) {
+    if (!ok) throw Error(where + "." + field + " " + rule + ", got " + num(value));
+  };
+  need(h.rest_fibre_stretch > 0.0 && std::isfinite(h.rest_fibre_stretch), "rest_fibre_stretch", "must be positive",
+       h.rest_fibre_stretch);
+  need(h.active_width > 0.0 && h.active_width < 1.0, "active_width",
+       "must lie in (0, 1) (the active force-length curve is zero at 1 +- width)", h.active_width);
+  need(h.passive_strain > 0.0 && std::isfinite(h.passive_strain), "passive_strain", "must be positive", h.passive_strain);
+  need(h.passive_shape > 0.0 && h.passive_shape < 50.0, "passive_shape", "must lie in (0, 50)", h.passive_shape);
+  need(h.max_velocity > 0.0 && std::isfinite(h.max_velocity), "max_velocity", "must be positive", h.max_velocity);
+  need(h.curvature > 0.0 && std::isfinite(h.curvature), "curvature", "must be positive", h.curvature);
+  need(h.eccentric_max > 1.0 && std::isfinite(h.eccentric_max), "eccentric_max", "must exceed 1", h.eccentric_max);
+  need(h.eccentric_slope_ratio > 0.0 && std::isfinite(h.eccentric_slope_ratio), "eccentric_slope_ratio",
+       "must be positive", h.eccentric_slope_ratio);
+}
+
+double hill_active_force_length(double lt, double width, double* slope) {
+  const double s = (lt - 1.0) / width;
+  if (std::abs(s) >= 1.0) {
+    if (slope) *slope = 0.0;
+    return 0.0;
+  }
+  if (slope) *slope = -2.0 * s / width;
+  return 1.0 - s * s;
+}
+
+double hill_passive_force_length(double lt, double strain, double shape, double* slope) {
+  if (lt <= 1.0) {
+    if (slope) *slope = 0.0;
+    return 0.0;
+  }
+  const double scale = 1.0 / std::expm1(shape), e = std::exp(shape * (lt - 1.0) / strain);
+  if (slope) *slope = scale * e * shape / strain;
+  return scale * (e - 1.0);
+}
+
+double hill_force_velocity(double vt, const HillMuscle& h, double* slope) {
+  if (!h.force_velocity) {
+    if (slope) *slope = 0.0;
+    return 1.0;
+  }
+  if (vt <= -1.0) {
+    if (slope) *slope = 0.0;
+    return 0.0;
+  }
+  const double A = h.curvature;
+  if (vt < 0.0) {
+    const double den = 1.0 - vt / A;
+    if (slope) *slope = (den + (1.0 + vt) / A) / (den * den);
+    return (1.0 + vt) / den;
+  }
+  const double fe = h.eccentric_max, c = h.eccentric_slope_ratio * (1.0 + 1.0 / A) / (fe - 1.0);
+  const double den = 1.0 + c * vt;
+  if (slope) *slope = (fe - 1.0) * c / (den * den);
+  return fe - (fe - 1.0) / den;
+}
+
+UnitTension hill_unit_tension(double length, double rate, double rest_length, double activation, double unit_force,
+                              const HillMuscle& h) {
+  const double lo = rest_length / h.rest_fibre_stretch;
+  const double lt = length / lo, vt = rate / (lo * h.max_velocity);
+  double dA = 0.0, dP = 0.0, dV = 0.0;
+  const double fA = hill_active_force_length(lt, h.active_width, &dA);
+  const double fP = hill_passive_force_length(lt, h.passive_strain, h.passive_shape, &dP);
+  const double fV = hill_force_velocity(vt, h, &dV);
+  UnitTension t;
+  t.T = unit_force * (activation * fA * fV + fP);
+  t.dT_dlength = unit_force * (activation * dA * fV + dP) / lo;
+  t.dT_drate = unit_force * activation * fA * dV / (lo * h.max_velocity);
+  return t;
+}
+
+void add_hill_muscle_forces(const Points& x, const Points& v, const std::vector<ContractileUnit>& units,
+                            double unit_force, double activation, const HillMuscle& hill, Points& f) {
+  for (const auto& u : units) {
+    const Vec3 l = x.col(u.b) - x.col(u.a);
+    const double len = l.norm();
+    if (!(len > 0.0)) continue;  // coincident nodes: no direction, no force
+    const double rate = l.dot(v.col(u.b) - v.col(u.a)) / len;
+    const double T = hill_unit_tension(len, rate, u.rest_length, activation, unit_force, hill).T;
+    if (T == 0.0) continue;
+    const Vec3 pull = (T / len) * l;
+    f.col(u.a) += pull;
+    f.col(u.b) -= pull;
+  }
+}
+
+double activation_step(double a, double u, double dt, double tau_a, double tau_d) {
+  if (!(u >= 0.0 && u <= 1.0)) throw Error("muscle: an excitation must lie in [0, 1], got " + num(u));
+  if (!(tau_a >= 0.0) || !(tau_d >= 0.0) || !(dt >= 0.0))
+    throw Error("muscle: activation and deactivation times and the step must be >= 0");
+  const double tau = u > a ? tau_a : tau_d;
+  if (tau == 0.0) return u;
+  return u + (a - u) * std::exp(-dt / tau);
 }
 
 }  // namespace msd

@@ -3,6 +3,8 @@
 #include "msd/forces/muscle_units.hpp"
 #include "msd/forces/tendon.hpp"
 
+#include <cmath>
+
 namespace msd {
 
 Vec3 group_point(const Model& model, int group, const Vec3& rest, const Points& x,
@@ -21,18 +23,25 @@ double strand_natural_length(const Model& model, size_t s, const Controls& c) {
   return s < c.strand_natural_length.size() ? c.strand_natural_length[s] : model.strands[s].natural_length;
 }
 
-void add_part_forces(const Model& model, const Points& x, const std::vector<HingeState>& joints,
+namespace {
+// (L - L0) / L0 when taut, else 0 (a slack strand of infinite L0 too).
+double strain_of(double length, double l0) { return std::isfinite(l0) && length > l0 ? (length - l0) / l0 : 0.0; }
+}  // namespace
+
+void add_part_forces(const Model& model, const Points& x, const Points& v, const std::vector<HingeState>& joints,
                      const Controls& c, Scratch& scratch) {
   Points& f = scratch.f;
   const size_t ns = model.strands.size();
   if (scratch.strand_tension.size() != ns) scratch.strand_tension.resize(ns);
+  if (scratch.strand_strain.size() != ns) scratch.strand_strain.resize(ns);
   if (scratch.anchor_force.size() != ns) scratch.anchor_force.resize(ns);
   for (size_t si = 0; si < ns; ++si) {
     const Strand& s = model.strands[si];
     const double l0 = strand_natural_length(model, si, c);
     scratch.anchor_force[si].setZero();
     if (s.anchor_group < 0) {
-      scratch.strand_tension[si] = add_tendon_forces(x, s.nodes, l0, s.k_t, f);
+      scratch.strand_tension[si] = add_tendon_forces(x, s.nodes, l0, s.k_t, f, s.toe_strain);
+      scratch.strand_strain[si] = strain_of(strand_length(x, s.nodes), l0);
       continue;
     }
     // With an anchor: the strand's points (nodes, then anchor) and their
@@ -53,14 +62,20 @@ void add_part_forces(const Model& model, const Points& x, const std::vector<Hing
       for (size_t k = 0; k < idx.size(); ++k) idx[k] = static_cast<int>(k);
     }
     fl.leftCols(m).setZero();
-    scratch.strand_tension[si] = add_tendon_forces(p, idx, l0, s.k_t, fl);
+    scratch.strand_tension[si] = add_tendon_forces(p, idx, l0, s.k_t, fl, s.toe_strain);
+    double length = 0.0;
+    for (Eigen::Index k = 0; k + 1 < m; ++k) length += (p.col(k + 1) - p.col(k)).norm();
+    scratch.strand_strain[si] = strain_of(length, l0);
     for (size_t k = 0; k < s.nodes.size(); ++k) f.col(s.nodes[k]) += fl.col(static_cast<Eigen::Index>(k));
     scratch.anchor_force[si] = fl.col(m - 1);
   }
   for (size_t mi = 0; mi < model.muscles.size(); ++mi) {
     const Muscle& mu = model.muscles[mi];
     const double a = mi < c.activation.size() ? c.activation[mi] : 0.0;
-    if (a > 0.0) add_muscle_forces(x, mu.units, a * mu.unit_force, f, mu.force_length);
+    if (mu.hill.enabled)
+      add_hill_muscle_forces(x, v, mu.units, mu.unit_force, a, mu.hill, f);  // the passive element pulls at a = 0 too
+    else if (a > 0.0)
+      add_muscle_forces(x, mu.units, a * mu.unit_force, f, mu.force_length);
   }
 }
 

@@ -20,11 +20,26 @@ double strand_length(const Points& x, const std::vector<int>& nodes) {
   return l;
 }
 
+double tendon_tension(double length, double natural_length, double k_t, double toe, double* slope) {
+  const double stretch = length - natural_length;
+  if (!(stretch > 0.0)) {
+    if (slope) *slope = 0.0;
+    return 0.0;
+  }
+  const double e = stretch / natural_length;
+  if (e >= toe) {
+    if (slope) *slope = k_t;
+    return k_t * (stretch - 0.5 * toe * natural_length);  // toe 0: k_t (L - L0), the thesis' bits
+  }
+  if (slope) *slope = k_t * e / toe;
+  return k_t * natural_length * e * e / (2.0 * toe);
+}
+
 double add_tendon_forces(const Points& x, const std::vector<int>& nodes, double natural_length, double k_t,
-                         Points& f) {
-  const double stretch = strand_length(x, nodes) - natural_length;
-  if (stretch <= 0.0 || nodes.size() < 2) return 0.0;
-  const double t = k_t * stretch;
+                         Points& f, double toe) {
+  if (nodes.size() < 2) return 0.0;
+  const double t = tendon_tension(strand_length(x, nodes), natural_length, k_t, toe);
+  if (t <= 0.0) return 0.0;
   for (size_t i = 0; i + 1 < nodes.size(); ++i) {
     const Vec3 d = x.col(nodes[i + 1]) - x.col(nodes[i]);
     const double len = d.norm();
@@ -36,13 +51,16 @@ double add_tendon_forces(const Points& x, const std::vector<int>& nodes, double 
   return t;
 }
 
-double tendon_energy_at_length(double length, double natural_length, double k_t) {
+double tendon_energy_at_length(double length, double natural_length, double k_t, double toe) {
   const double stretch = length - natural_length;
-  return stretch > 0.0 ? 0.5 * k_t * stretch * stretch : 0.0;
+  if (!(stretch > 0.0)) return 0.0;
+  const double e = stretch / natural_length, l2 = k_t * natural_length * natural_length;
+  if (e < toe) return l2 * e * e * e / (6.0 * toe);
+  return l2 * (toe * toe / 6.0 + 0.5 * (e * e - toe * toe) - 0.5 * toe * (e - toe));
 }
 
-double tendon_energy(const Points& x, const std::vector<int>& nodes, double natural_length, double k_t) {
-  return tendon_energy_at_length(strand_length(x, nodes), natural_length, k_t);
+double tendon_energy(const Points& x, const std::vector<int>& nodes, double natural_length, double k_t, double toe) {
+  return tendon_energy_at_length(strand_length(x, nodes), natural_length, k_t, toe);
 }
 
 }  // namespace msd

@@ -152,40 +152,56 @@ inline void add_edge_blocks(double* values, const SystemLayout& L, int n, int e,
   add_block(values, L, n + 2 * e + 1, B, c);
 }
 
-// The strands' and muscles' stiffness (jacobians.hpp), times c_k. An
-// anchored strand's anchor is not a degree of freedom: its rows and columns
-// are dropped.
-void assemble_parts(const Model& model, const SystemLayout& L, const Points& x, const std::vector<HingeState>& joints,
-                    const Controls& controls, double c_k, double* values) {
+// The strands' and muscles' stiffness (jacobians.hpp), times c_k, and a Hill
+// unit's damping (its force-velocity relation), times c_d. An anchored
+// strand's anchor is not a degree of freedom: its rows and columns are
+// dropped.
+void assemble_parts(const Model& model, const SystemLayout& L, const Points& x, const Points& v,
+                    const std::vector<HingeState>& joints, const Controls& controls, double c_d, double c_k,
+                    double* values) {
   thread_local Points p;
   thread_local Eigen::MatrixXd K;
-  for (size_t si = 0; si < model.strands.size(); ++si) {
+  for (size_t si = 0; c_k != 0.0 && si < model.strands.size(); ++si) {
     const Strand& s = model.strands[si];
     const Eigen::Index m = static_cast<Eigen::Index>(s.nodes.size());
     const Eigen::Index points = m + (s.anchor_group >= 0 ? 1 : 0);
     if (p.cols() != points) p.resize(3, points);  // (allocates when strands differ in length; the implicit step allocates anyway)
     for (Eigen::Index k = 0; k < m; ++k) p.col(k) = x.col(s.nodes[static_cast<size_t>(k)]);
     if (s.anchor_group >= 0) p.col(m) = group_point(model, s.anchor_group, s.anchor_rest, x, joints);
-    if (!strand_jacobian(p, strand_natural_length(model, si, controls), s.k_t, K)) continue;
+    if (!strand_jacobian(p, strand_natural_length(model, si, controls), s.k_t, K, s.toe_strain)) continue;
     const int* ids = L.strand_block.data() + L.strand_block_offset[si];
     for (Eigen::Index i = 0; i < m; ++i)
       for (Eigen::Index j = 0; j < m; ++j)
         add_block(values, L, ids[i * m + j], K.block<3, 3>(3 * i, 3 * j), c_k);
   }
+  // A unit's blocks from B = dF_a/dl (or dF_a/dw): (a,a), (b,b) get -B; (a,b), (b,a) +B.
+  auto unit_blocks = [&](const ContractileUnit& u, size_t unit, const Mat3& B, double c) {
+    add_block(values, L, u.a, B, -c);
+    add_block(values, L, u.b, B, -c);
+    add_block(values, L, L.unit_block[2 * unit], B, c);
+    add_block(values, L, L.unit_block[2 * unit + 1], B, c);
+  };
   size_t unit = 0;
   for (size_t mi = 0; mi < model.muscles.size(); ++mi) {
     const Muscle& mu = model.muscles[mi];
     const double a = mi < controls.activation.size() ? controls.activation[mi] : 0.0;
-    if (!(a > 0.0)) {
+    if (mu.hill.enabled) {
+      Mat3 dl, dw;
+      for (const ContractileUnit& u : mu.units) {
+        hill_unit_jacobians(Vec3(x.col(u.b) - x.col(u.a)), Vec3(v.col(u.b) - v.col(u.a)), u.rest_length, a,
+                            mu.unit_force, mu.hill, dl, dw);
+        if (c_k != 0.0) unit_blocks(u, unit, dl, c_k);
+        if (c_d != 0.0) unit_blocks(u, unit, dw, c_d);
+        ++unit;
+      }
+      continue;
+    }
+    if (!(a > 0.0) || c_k == 0.0) {
       unit += mu.units.size();
       continue;
     }
     for (const ContractileUnit& u : mu.units) {
-      const Mat3 B = muscle_unit_jacobian(Vec3(x.col(u.b) - x.col(u.a)), u.rest_length, a * mu.unit_force, mu.force_length);
-      add_block(values, L, u.a, B, -c_k);
-      add_block(values, L, u.b, B, -c_k);
-      add_block(values, L, L.unit_block[2 * unit], B, c_k);
-      add_block(values, L, L.unit_block[2 * unit + 1], B, c_k);
+      unit_blocks(u, unit, muscle_unit_jacobian(Vec3(x.col(u.b) - x.col(u.a)), u.rest_length, a * mu.unit_force, mu.force_length), c_k);
       ++unit;
     }
   }
@@ -284,7 +300,7 @@ void assemble_system(const Model& model, const SystemLayout& L, const Points& x,
     }
   }
   if (c_k != 0.0 && continuum) assemble_volume_groups(model, L, x, c_k, values);
-  if (c_k != 0.0) assemble_parts(model, L, x, joints, controls, c_k, values);
+  if (c_k != 0.0 || c_d != 0.0) assemble_parts(model, L, x, v, joints, controls, c_d, c_k, values);
 }
 
 // A node an obstacle holds for one solve (hold_contacts).

@@ -236,12 +236,15 @@ void check_model_parts(Model& model) {
     if (!(st.natural_length > 0.0) || !std::isfinite(st.natural_length) || !(st.k_t > 0.0) || !std::isfinite(st.k_t))
       throw Error(where + ": natural length and stiffness must be positive and finite");
     if (!st.anchor_rest.allFinite()) throw Error(where + ": the anchor is not finite");
+    if (!(st.toe_strain >= 0.0 && st.toe_strain < 0.2))
+      throw Error(where + ": the toe strain must lie in [0, 0.2), got " + std::to_string(st.toe_strain));
   }
   for (const Muscle& m : model.muscles) {
     const std::string where = "muscle '" + m.name + "'";
     if (!(m.unit_force >= 0.0) || !std::isfinite(m.unit_force)) throw Error(where + ": unit force must be >= 0 and finite");
     if (m.force_length.enabled && !(m.force_length.zero_at >= 0.0 && m.force_length.zero_at < 1.0))
       throw Error(where + ": the force-length relation's zero stretch must lie in [0, 1)");
+    if (m.hill.enabled) check_hill_muscle(m.hill, where + ": hill");
     for (const ContractileUnit& u : m.units)
       if (!node_ok(u.a) || !node_ok(u.b) || u.a == u.b || !(u.rest_length > 0.0))
         throw Error(where + " has a unit (" + std::to_string(u.a) + ", " + std::to_string(u.b) +

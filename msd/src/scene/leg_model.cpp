@@ -240,6 +240,12 @@ void build_muscles(const LimbMesh& m, const LegModelOptions& o, LegModel& leg) {
   leg.front_unit_force = unit_force(m.mesh, kFrontMuscle, leg.front_units, o.front_line, 1.0, o.max_muscle_stress);
   leg.back_unit_force = unit_force(m.mesh, kBackMuscle, leg.back_units, o.back_line, 1.0, o.max_muscle_stress);
   leg.force_length = o.force_length;
+  if (o.hill.enabled) check_hill_muscle(o.hill, "leg: muscles.hill");
+  leg.hill = o.hill;
+  if (!(o.activation_time >= 0.0) || !(o.deactivation_time >= 0.0))
+    throw Error("leg: the muscles' activation and deactivation times must be >= 0");
+  leg.activation_time = o.activation_time;
+  leg.deactivation_time = o.deactivation_time;
 }
 
 // The knee's passive structures: joint damping and the end-range stiffness.
@@ -281,14 +287,15 @@ void compile_parts(LegModel& leg) {
     s.nodes = ls.nodes;
     s.natural_length = ls.natural_length;
     s.k_t = ls.k_t;
+    s.toe_strain = leg.tendon_toe_strain;
     if (ls.anchored) {
       s.anchor_group = ls.anchor_bone == 2 ? kLowerBoneGroup : kFemurGroup;
       s.anchor_rest = ls.anchor_rest;
     }
     tm.strands.push_back(s);
   }
-  tm.muscles = {Muscle{"front muscle", leg.front_units, leg.front_unit_force, leg.force_length},
-                Muscle{"back muscle", leg.back_units, leg.back_unit_force, leg.force_length}};
+  tm.muscles = {Muscle{"front muscle", leg.front_units, leg.front_unit_force, leg.force_length, leg.hill},
+                Muscle{"back muscle", leg.back_units, leg.back_unit_force, leg.force_length, leg.hill}};
   tm.self_contact = leg.knee_contact;
   tm.contact_tets = leg.tets;
   tm.obstacles = leg.obstacles;
@@ -306,6 +313,7 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
   leg.tissue = tissue_model(tissue_mesh, o);
   build_knee(m, o, leg);
   build_strands(tendons, o, leg);
+  leg.tendon_toe_strain = o.tendon_toe_strain;
   leg.tets = tissue_mesh.tets;
   const std::vector<Tri> skin = skin_faces(m, tissue_mesh, o);
   build_knee_contact(m, tissue_mesh, skin, o, leg);
@@ -346,6 +354,16 @@ void step_leg(const LegModel& model, LegState& state, const LegControls& c, doub
   tc.activation.assign(tm.muscles.size(), 0.0);
   tc.activation[kFrontMuscleIndex] = c.front_activation;
   tc.activation[kBackMuscleIndex] = c.back_activation;
+  if (model.activation_time > 0.0 || model.deactivation_time > 0.0) {
+    // The controls are excitations; the activations follow them over the step.
+    if (state.activation.size() != 2) state.activation = {c.front_activation, c.back_activation};
+    for (int k : {kFrontMuscleIndex, kBackMuscleIndex}) {
+      const size_t i = static_cast<size_t>(k);
+      state.activation[i] = activation_step(state.activation[i], tc.activation[i], dt, model.activation_time,
+                                            model.deactivation_time);
+      tc.activation[i] = state.activation[i];
+    }
+  }
   tc.strand_natural_length.resize(model.strands.size());
   for (size_t si = 0; si < model.strands.size(); ++si) {
     const LegStrand& s = model.strands[si];
@@ -372,8 +390,12 @@ void step_leg(const LegModel& model, LegState& state, const LegControls& c, doub
 
   const Scratch& ts = scratch.tissue;
   scratch.tendon_tension.assign(model.tendon_names.size(), 0.0);
-  for (size_t si = 0; si < model.strands.size(); ++si)
-    scratch.tendon_tension[static_cast<size_t>(model.strands[si].tendon)] += ts.strand_tension[si];
+  scratch.tendon_strain.assign(model.tendon_names.size(), 0.0);
+  for (size_t si = 0; si < model.strands.size(); ++si) {
+    const size_t t = static_cast<size_t>(model.strands[si].tendon);
+    scratch.tendon_tension[t] += ts.strand_tension[si];
+    scratch.tendon_strain[t] = std::max(scratch.tendon_strain[t], ts.strand_strain[si]);
+  }
   scratch.knee_torque = ts.joints[kKneeJoint].torque;
   scratch.passive_joint_torque = ts.joints[kKneeJoint].passive_torque;
   scratch.joint_reaction = ts.joints[kKneeJoint].reaction;

@@ -116,3 +116,160 @@ TEST(MuscleUnits, WithForceLengthAShortenedUnitPullsLessAndAHalfLengthOneNotAtAl
   // A zero stretch outside [0, 1) is refused.
   EXPECT_THROW(msd::add_muscle_forces(x, units, 2.0, f, msd::ForceLength{true, 1.0}), msd::Error);
 }
+
+// --- The Hill-type law (Zajac 1989; Thelen 2003) -----------------------------
+
+TEST(HillMuscle, TheCurvesPassThroughZajacsAndThelensPoints) {
+  const msd::HillMuscle h;
+  // Active force-length: 1 at optimal length, zero at 1 -+ w (0.5, 1.5).
+  EXPECT_DOUBLE_EQ(msd::hill_active_force_length(1.0, h.active_width), 1.0);
+  EXPECT_EQ(msd::hill_active_force_length(0.5, h.active_width), 0.0);
+  EXPECT_EQ(msd::hill_active_force_length(1.5, h.active_width), 0.0);
+  EXPECT_EQ(msd::hill_active_force_length(0.3, h.active_width), 0.0);
+  EXPECT_NEAR(msd::hill_active_force_length(0.75, h.active_width), 0.75, 1e-15);  // 1 - (0.25/0.5)^2
+  // Passive: none up to optimal length, F_max at 1 + e0.
+  EXPECT_EQ(msd::hill_passive_force_length(0.9, h.passive_strain, h.passive_shape), 0.0);
+  EXPECT_EQ(msd::hill_passive_force_length(1.0, h.passive_strain, h.passive_shape), 0.0);
+  EXPECT_NEAR(msd::hill_passive_force_length(1.6, h.passive_strain, h.passive_shape), 1.0, 1e-14);
+  // Force-velocity: 1 isometric, 0 at v_max shortening, Hill's hyperbola between,
+  // towards f_e lengthening, the slope at 0 twice as steep lengthening.
+  EXPECT_DOUBLE_EQ(msd::hill_force_velocity(0.0, h), 1.0);
+  EXPECT_EQ(msd::hill_force_velocity(-1.0, h), 0.0);
+  EXPECT_EQ(msd::hill_force_velocity(-2.0, h), 0.0);
+  EXPECT_NEAR(msd::hill_force_velocity(-0.5, h), 0.5 / 3.0, 1e-15);  // (1 - 0.5) / (1 + 0.5 / 0.25)
+  EXPECT_NEAR(msd::hill_force_velocity(1e6, h), h.eccentric_max, 1e-4);
+  double concentric = 0.0, eccentric = 0.0;
+  msd::hill_force_velocity(-1e-12, h, &concentric);
+  msd::hill_force_velocity(0.0, h, &eccentric);
+  EXPECT_NEAR(concentric, 1.0 + 1.0 / h.curvature, 1e-9);
+  EXPECT_NEAR(eccentric, 2.0 * concentric, 1e-9);
+  msd::HillMuscle off = h;
+  off.force_velocity = false;
+  EXPECT_EQ(msd::hill_force_velocity(-0.5, off), 1.0);
+}
+
+TEST(HillMuscle, EachCurvesSlopeIsItsDerivative) {
+  const msd::HillMuscle h;
+  const double e = 1e-7;
+  for (double lt : {0.6, 0.9, 1.1, 1.3, 1.45}) {
+    double s = 0.0;
+    msd::hill_active_force_length(lt, h.active_width, &s);
+    EXPECT_NEAR(s, (msd::hill_active_force_length(lt + e, h.active_width) - msd::hill_active_force_length(lt - e, h.active_width)) / (2 * e), 1e-6);
+    msd::hill_passive_force_length(lt, h.passive_strain, h.passive_shape, &s);
+    if (lt > 1.0) {
+      EXPECT_NEAR(s, (msd::hill_passive_force_length(lt + e, h.passive_strain, h.passive_shape) -
+                      msd::hill_passive_force_length(lt - e, h.passive_strain, h.passive_shape)) / (2 * e), 1e-6);
+    }
+  }
+  for (double vt : {-0.9, -0.4, -0.05, 0.05, 0.3, 2.0}) {
+    double s = 0.0;
+    msd::hill_force_velocity(vt, h, &s);
+    EXPECT_NEAR(s, (msd::hill_force_velocity(vt + e, h) - msd::hill_force_velocity(vt - e, h)) / (2 * e), 1e-6) << vt;
+  }
+}
+
+TEST(HillMuscle, AnIsometricUnitAtOptimalLengthPullsLikeTheThesisUnit) {
+  // l = l_o and no rate: T = a F_u, the thesis' constant force.
+  msd::Points x(3, 2), v = msd::Points::Zero(3, 2), f1 = msd::Points::Zero(3, 2), f2 = msd::Points::Zero(3, 2);
+  x.col(0).setZero();
+  x.col(1) = msd::Vec3(0.003, -0.004, 0.012);
+  const std::vector<msd::ContractileUnit> units{{0, 1, x.col(1).norm()}};
+  msd::HillMuscle h;
+  h.enabled = true;
+  msd::add_hill_muscle_forces(x, v, units, 2.5, 0.6, h, f1);
+  msd::add_muscle_forces(x, units, 0.6 * 2.5, f2);
+  EXPECT_LT((f1 - f2).norm(), 1e-14);
+  EXPECT_NEAR(f1.col(0).norm(), 1.5, 1e-14);
+  // Shortening at half of v_max it pulls (1 - 0.5) / (1 + 2) of that; relaxed, nothing.
+  v.col(1) = -0.5 * h.max_velocity * units[0].rest_length * x.col(1).normalized();
+  f1.setZero();
+  msd::add_hill_muscle_forces(x, v, units, 2.5, 0.6, h, f1);
+  EXPECT_NEAR(f1.col(0).norm(), 1.5 / 6.0, 1e-12);
+  f1.setZero();
+  msd::add_hill_muscle_forces(x, v, units, 2.5, 0.0, h, f1);
+  EXPECT_EQ(f1.norm(), 0.0);
+}
+
+TEST(HillMuscle, ARelaxedUnitPullsOnlyWhenStretchedPastOptimalLength) {
+  msd::HillMuscle h;
+  h.enabled = true;
+  h.rest_fibre_stretch = 1.0;
+  const double rest = 0.01, F = 3.0;
+  EXPECT_EQ(msd::hill_unit_tension(0.95 * rest, 0.0, rest, 0.0, F, h).T, 0.0);
+  EXPECT_EQ(msd::hill_unit_tension(rest, 0.0, rest, 0.0, F, h).T, 0.0);
+  EXPECT_NEAR(msd::hill_unit_tension(1.6 * rest, 0.0, rest, 0.0, F, h).T, F, 1e-12);  // F_max at 60 % strain
+  // Fibres at 1.1 optimal length in the mesh: the same unit is already past it.
+  h.rest_fibre_stretch = 1.1;
+  EXPECT_GT(msd::hill_unit_tension(rest, 0.0, rest, 0.0, F, h).T, 0.0);
+}
+
+TEST(HillMuscle, UnitForcesHaveNoNetForceOrTorque) {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  msd::Points x(3, 6), v(3, 6);
+  for (int i = 0; i < 6; ++i) {
+    x.col(i) = 0.01 * msd::Vec3(u(rng), u(rng), u(rng));
+    v.col(i) = 0.05 * msd::Vec3(u(rng), u(rng), u(rng));
+  }
+  std::vector<msd::ContractileUnit> units;
+  for (int a = 0; a < 6; ++a)
+    for (int b = a + 1; b < 6; ++b) units.push_back({a, b, 0.9 * (x.col(b) - x.col(a)).norm()});
+  msd::HillMuscle h;
+  h.enabled = true;
+  msd::Points f = msd::Points::Zero(3, 6);
+  msd::add_hill_muscle_forces(x, v, units, 2.0, 0.7, h, f);
+  ASSERT_GT(f.norm(), 0.1);
+  msd::Vec3 torque = msd::Vec3::Zero();
+  for (int i = 0; i < 6; ++i) torque += msd::Vec3(x.col(i)).cross(msd::Vec3(f.col(i)));
+  EXPECT_LT(f.rowwise().sum().norm(), 1e-14);
+  EXPECT_LT(torque.norm(), 1e-16);
+}
+
+TEST(HillMuscle, ACurveThatIsNotACurveIsRefusedNamingItsField) {
+  auto refused = [](msd::HillMuscle h, const std::string& field) {
+    try {
+      msd::check_hill_muscle(h, "scene.yaml: muscles.hill");
+      ADD_FAILURE() << field << " accepted";
+    } catch (const msd::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("scene.yaml: muscles.hill." + field), std::string::npos) << e.what();
+    }
+  };
+  msd::HillMuscle h;
+  EXPECT_NO_THROW(msd::check_hill_muscle(h, "x"));
+  h.active_width = 0.0;
+  refused(h, "active_width");
+  h = {};
+  h.active_width = 1.2;  // would pull at zero length
+  refused(h, "active_width");
+  h = {};
+  h.rest_fibre_stretch = -1.0;
+  refused(h, "rest_fibre_stretch");
+  h = {};
+  h.passive_strain = 0.0;
+  refused(h, "passive_strain");
+  h = {};
+  h.eccentric_max = 0.9;
+  refused(h, "eccentric_max");
+  h = {};
+  h.max_velocity = 0.0;
+  refused(h, "max_velocity");
+}
+
+TEST(ActivationDynamics, TheExactStepRisesWithTauAFallsWithTauDAndSettlesAtTheExcitation) {
+  const double ta = 0.01, td = 0.04;
+  // One step of tau_a from rest: 1 - 1/e of the way; many small steps the same
+  // (the step is exact for a held excitation).
+  EXPECT_NEAR(msd::activation_step(0.0, 1.0, ta, ta, td), 1.0 - std::exp(-1.0), 1e-15);
+  double a = 0.0;
+  for (int i = 0; i < 100; ++i) a = msd::activation_step(a, 1.0, ta / 100, ta, td);
+  EXPECT_NEAR(a, 1.0 - std::exp(-1.0), 1e-12);
+  // Falling from 1 to 0.2 with tau_d.
+  EXPECT_NEAR(msd::activation_step(1.0, 0.2, td, ta, td), 0.2 + 0.8 * std::exp(-1.0), 1e-15);
+  // Held, it reaches u and stays; a huge step is still bounded (no overshoot).
+  EXPECT_NEAR(msd::activation_step(0.1, 0.65, 10.0, ta, td), 0.65, 1e-15);
+  EXPECT_DOUBLE_EQ(msd::activation_step(0.65, 0.65, 0.001, ta, td), 0.65);
+  // No dynamics: the activation is the excitation.
+  EXPECT_EQ(msd::activation_step(0.1, 0.4, 1e-4, 0.0, 0.0), 0.4);
+  EXPECT_THROW(msd::activation_step(0.1, 1.5, 1e-4, ta, td), msd::Error);
+  EXPECT_THROW(msd::activation_step(0.1, 0.5, 1e-4, -ta, td), msd::Error);
+}

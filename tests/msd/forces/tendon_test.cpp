@@ -88,3 +88,47 @@ TEST(Tendon, EnergyAtLengthIsTheStrandsEnergyAndZeroWhenSlack) {
   EXPECT_NEAR(msd::tendon_energy(x, nodes, 0.5, 100.0), msd::tendon_energy_at_length(0.7, 0.5, 100.0), 1e-13);
   EXPECT_EQ(msd::tendon_energy_at_length(0.7, 0.8, 100.0), 0.0);
 }
+
+TEST(TendonToe, TheTensionRisesQuadraticallyThenLinearlyAtTheModulusAndIsC1) {
+  // E A / L0 for 1.2 GPa, 20 mm^2, 10 cm; toe to 3 % strain.
+  const double l0 = 0.1, kt = 1.2e9 * 2e-5 / l0, toe = 0.03;
+  double slope = -1.0;
+  EXPECT_EQ(msd::tendon_tension(0.099, l0, kt, toe, &slope), 0.0);
+  EXPECT_EQ(slope, 0.0);
+  // In the toe: k_t L0 e^2 / (2 e_t); at 1.5 % strain that is a quarter of
+  // the linear law's tension at the same strain.
+  EXPECT_NEAR(msd::tendon_tension(l0 * 1.015, l0, kt, toe, &slope), kt * l0 * 0.015 * 0.015 / 0.06, 1e-9);
+  EXPECT_NEAR(slope, kt * 0.5, 1e-6);
+  // Beyond: the modulus's slope, offset by half the toe.
+  EXPECT_NEAR(msd::tendon_tension(l0 * 1.05, l0, kt, toe, &slope), kt * l0 * (0.05 - 0.015), 1e-9);
+  EXPECT_EQ(slope, kt);
+  // Continuous with a continuous slope at e_t.
+  double below = 0.0, above = 0.0;
+  const double tb = msd::tendon_tension(l0 * (1 + toe) - 1e-12, l0, kt, toe, &below);
+  const double ta = msd::tendon_tension(l0 * (1 + toe) + 1e-12, l0, kt, toe, &above);
+  EXPECT_NEAR(tb, ta, 1e-6);
+  EXPECT_NEAR(below, above, 1e-6 * kt);
+  // No toe: the thesis' strand.
+  EXPECT_NEAR(msd::tendon_tension(l0 * 1.01, l0, kt), kt * 0.001, 1e-9);
+}
+
+TEST(TendonToe, ForcesAreMinusTheGradientOfTheToeEnergyInAndBeyondTheToe) {
+  std::mt19937 rng(3);
+  const std::vector<int> nodes{0, 1, 2, 3, 4, 5};
+  for (double strain : {0.01, 0.025, 0.06}) {
+    const msd::Points x = random_strand(rng, 6);
+    const double toe = 0.03, l0 = msd::strand_length(x, nodes) / (1.0 + strain), kt = 2500.0;
+    msd::Points f = msd::Points::Zero(3, 6);
+    const double t = msd::add_tendon_forces(x, nodes, l0, kt, f, toe);
+    EXPECT_NEAR(t, msd::tendon_tension(msd::strand_length(x, nodes), l0, kt, toe), 1e-12);
+    const double h = 1e-7;
+    for (int i = 0; i < 6; ++i)
+      for (int a = 0; a < 3; ++a) {
+        msd::Points xp = x, xm = x;
+        xp(a, i) += h;
+        xm(a, i) -= h;
+        const double grad = (msd::tendon_energy(xp, nodes, l0, kt, toe) - msd::tendon_energy(xm, nodes, l0, kt, toe)) / (2 * h);
+        EXPECT_NEAR(f(a, i), -grad, 1e-6 * t) << "strain " << strain << " node " << i << " axis " << a;
+      }
+  }
+}

@@ -1,4 +1,5 @@
 #include "msd/integrate/implicit.hpp"
+#include "msd/forces/parts.hpp"
 
 #include "msd/forces/element_forces.hpp"
 #include "msd/forces/tendon.hpp"
@@ -787,4 +788,78 @@ TEST(Implicit, TheSymmetricLdltSolverConvergesToTheStepsOfSparseLuWithTheFullMod
     EXPECT_LT((ldlt.x - lu.x).cwiseAbs().maxCoeff(), 1e-6 * motion) << scene;
     EXPECT_GT(ldlt.iterations, lu.iterations) << scene;
   }
+}
+
+TEST(Implicit, AssembledJacobiansOfToeStrandsAndHillMusclesMatchFiniteDifferences) {
+  // The block's strands with a toe region (one inside it, one beyond) and its
+  // muscle on the Hill law: dF/dx at rest velocities (where the rate's
+  // direction term, left out, vanishes) and dF/dv at random velocities.
+  msd::Model m = block_with_parts(2.0e3);
+  for (msd::Strand& s : m.strands) s.toe_strain = 0.03;
+  m.muscles[0].hill.enabled = true;
+  m.muscles[0].hill.rest_fibre_stretch = 1.1;  // the passive element pulls too
+  m.muscles[0].unit_force = 0.5;
+  msd::check_model_parts(m);
+  msd::Points x, v;
+  deform(m, 0.9, 0.0005, x, v);
+  msd::Controls c = pulling(m, 0.0002);
+  msd::State s = msd::rest_state(m);
+  s.x = x;
+  s.v.setZero();
+  msd::apply_group_constraints(m, c, s.joints, s.x, s.v);
+  // The anchored strand 1.5 % past its natural length (in the toe), the free one 5 % (beyond).
+  double length[2] = {0.0, 0.0};
+  for (size_t k = 0; k < 2; ++k) {
+    const msd::Strand& st = m.strands[k];
+    std::vector<Vec3> p;
+    for (int node : st.nodes) p.push_back(s.x.col(node));
+    if (st.anchor_group >= 0) p.push_back(msd::group_point(m, st.anchor_group, st.anchor_rest, s.x, s.joints));
+    for (size_t i = 0; i + 1 < p.size(); ++i) length[k] += (p[i + 1] - p[i]).norm();
+  }
+  c.strand_natural_length = {length[0] / 1.015, length[1] / 1.05};
+  msd::Scratch scratch;
+  msd::evaluate_forces(m, s, c, scratch);
+  ASSERT_NEAR(scratch.strand_strain[0], 0.015, 1e-12);
+  ASSERT_NEAR(scratch.strand_strain[1], 0.05, 1e-12);
+  const msd::SystemLayout L = msd::make_system_layout(m);
+  const Eigen::Index n = 3 * m.num_nodes();
+  auto fd = [&](msd::State y, bool velocity) {
+    Eigen::MatrixXd J(n, n);
+    const double h = velocity ? 1e-6 : 1e-8;
+    for (Eigen::Index k = 0; k < n; ++k) {
+      double* q = (velocity ? y.v.data() : y.x.data()) + k;
+      const double keep = *q;
+      *q = keep + h;
+      msd::evaluate_forces(m, y, c, scratch);
+      const msd::Points up = scratch.f;
+      *q = keep - h;
+      msd::evaluate_forces(m, y, c, scratch);
+      *q = keep;
+      J.col(k) = (Eigen::Map<const Eigen::VectorXd>(up.data(), n) - Eigen::Map<const Eigen::VectorXd>(scratch.f.data(), n)) / (2 * h);
+    }
+    return J;
+  };
+  auto free_dofs = [&](Eigen::MatrixXd a) {
+    for (Eigen::Index k = 0; k < n; ++k)
+      if (L.fixed[static_cast<size_t>(k)]) {
+        a.row(k).setZero();
+        a.col(k).setZero();
+      }
+    return a;
+  };
+  Eigen::SparseMatrix<double> K = L.pattern, D = L.pattern;
+  msd::assemble_system(m, L, s.x, s.v, s.joints, c, 0.0, 0.0, 1.0, K);
+  const Eigen::MatrixXd Kfd = free_dofs(fd(s, false));
+  EXPECT_LT((free_dofs(Eigen::MatrixXd(K)) - Kfd).cwiseAbs().maxCoeff(), 1e-6 * Kfd.cwiseAbs().maxCoeff());
+  s.v = 0.05 * v / v.cwiseAbs().maxCoeff();  // up to 5 cm/s: the units lengthen and shorten
+  msd::apply_group_constraints(m, c, s.joints, s.x, s.v);
+  msd::assemble_system(m, L, s.x, s.v, s.joints, c, 0.0, 1.0, 0.0, D);
+  const Eigen::MatrixXd Dfd = free_dofs(fd(s, true));
+  EXPECT_LT((free_dofs(Eigen::MatrixXd(D)) - Dfd).cwiseAbs().maxCoeff(), 1e-6 * Dfd.cwiseAbs().maxCoeff());
+  // The muscle's force-velocity damping is there: D differs from the dampers' alone.
+  msd::Model plain = m;
+  plain.muscles[0].hill.force_velocity = false;
+  Eigen::SparseMatrix<double> D0 = L.pattern;
+  msd::assemble_system(plain, L, s.x, s.v, s.joints, c, 0.0, 1.0, 0.0, D0);
+  EXPECT_GT((Eigen::MatrixXd(D) - Eigen::MatrixXd(D0)).cwiseAbs().maxCoeff(), 0.01 * Dfd.cwiseAbs().maxCoeff());
 }

@@ -231,7 +231,7 @@ TEST(Step, BadPartsAreRefusedByName) {
   m2.strands = {msd::Strand{{0, 7}, 1.0, 10.0, -1, Vec3::Zero()}};
   EXPECT_THROW(msd::check_model_parts(m2), msd::Error);
   msd::Model m3 = pendulum();
-  m3.muscles = {msd::Muscle{"biceps", {{0, 1, 1.0}}, -1.0, {}}};
+  m3.muscles = {msd::Muscle{"biceps", {{0, 1, 1.0}}, -1.0, {}, {}}};
   try {
     msd::check_model_parts(m3);
     FAIL() << "a negative unit force was accepted";

@@ -392,3 +392,41 @@ TEST(LegModel, RealTendonStiffnessRunsWithBackwardEulerAtAStepWhereSymplecticEul
   msd::LegScratch s2;
   EXPECT_THROW(for (int k = 0; k < 20; ++k) msd::step_leg(leg, se, c, dt, s2), msd::SimulationFailure);
 }
+
+TEST(LegModel, AHillLegWithRealToeTendonsFollowsItsExcitationThroughActivationDynamics) {
+  // Issue 18: the Hill law (Zajac 1989) at a specific tension of 0.25 MPa
+  // (within the published 0.2-0.35 MPa), tendons at 1.2 GPa beyond a 3 %
+  // toe, activation time constants 10 / 40 ms, on BDF2 at 1 ms.
+  msd::LegModelOptions o = options();
+  o.tendon_modulus = 1.2e9;
+  o.tendon_toe_strain = 0.03;
+  o.nonlinear_threshold = 0.0;
+  o.hill.enabled = true;
+  o.max_muscle_stress = 2.5e5;
+  o.activation_time = 0.01;
+  o.deactivation_time = 0.04;
+  const msd::LegModel leg = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  ASSERT_TRUE(leg.tissue.muscles[msd::kBackMuscleIndex].hill.enabled);
+  msd::LegControls c;
+  c.tendon_length_scale = {0.99, 0.99, 1.0, 1.0};
+  c.back_activation = 1.0;  // an excitation from rest
+  msd::LegState s = msd::leg_rest_state(leg, 0.0);
+  s.activation = {0.0, 0.0};
+  msd::LegScratch scratch;
+  const double dt = 1e-3;
+  for (int k = 0; k < 20; ++k) msd::step_leg(leg, s, c, dt, scratch, msd::Integrator::Bdf2);
+  EXPECT_TRUE(s.tissue.x.allFinite());
+  // The activation is the closed form of its first-order law: 1 - exp(-t / tau_a).
+  EXPECT_NEAR(s.activation[msd::kBackMuscleIndex], 1.0 - std::exp(-0.02 / 0.01), 1e-12);
+  EXPECT_EQ(s.activation[msd::kFrontMuscleIndex], 0.0);
+  // Released, it falls with tau_d.
+  c.back_activation = 0.0;
+  const double a0 = s.activation[msd::kBackMuscleIndex];
+  for (int k = 0; k < 10; ++k) msd::step_leg(leg, s, c, dt, scratch, msd::Integrator::Bdf2);
+  EXPECT_NEAR(s.activation[msd::kBackMuscleIndex], a0 * std::exp(-0.01 / 0.04), 1e-12);
+  // The back tendons carry the pull, and their strain is reported per tendon.
+  ASSERT_EQ(scratch.tendon_strain.size(), 4u);
+  EXPECT_GT(scratch.tendon_tension[0] + scratch.tendon_tension[1], 0.0);
+  EXPECT_GT(std::max(scratch.tendon_strain[0], scratch.tendon_strain[1]), 0.0);
+  EXPECT_LT(std::max(scratch.tendon_strain[0], scratch.tendon_strain[1]), 0.05);
+}

@@ -26,10 +26,17 @@
 //      dF_a/dl = phi/|l| (I - u u^T) + (F/r) f_L'(|l|/r) u u^T,
 //      f_L' = 2 s / (1 - lambda_0) on the ascending limb (s as in
 //      muscle_units.hpp), 0 elsewhere;
+//  - a Hill unit (muscle_units.hpp), F_a = T(|l|, r) u with r = u . w the
+//    lengthening rate (w = v_b - v_a):
+//      dF_a/dl = T/|l| (I - u u^T) + dT/d|l| u u^T,   dF_a/dw = dT/dr u u^T;
+//    the rate's own dependence on the direction, dT/dr u w^T (I - u u^T)/|l|,
+//    is left out: it is not symmetric, vanishes when the unit does not turn
+//    relative to its ends' motion, and Newton converges without it (more
+//    slowly where units turn fast);
 //  - a strand through points p_0 ... p_{m-1} with L = sum |d_s|, d_s = p_{s+1} - p_s,
-//    gradient g = dL/dp (g_i = u_{i-1} - u_i) and T = k_t (L - L0) > 0: the
-//    force is -T g, so
-//      K = -k_t g g^T - T sum_s P_s / |d_s|   (P_s = I - u_s u_s^T in the
+//    gradient g = dL/dp (g_i = u_{i-1} - u_i) and T = T(L) > 0 (tendon.hpp;
+//    dT/dL = k_t beyond the toe): the force is -T g, so
+//      K = -dT/dL g g^T - T sum_s P_s / |d_s|   (P_s = I - u_s u_s^T in the
 //      blocks (s, s), (s+1, s+1), and with a minus sign in (s, s+1), (s+1, s)),
 //    dense over the strand's points and symmetric; 0 for a slack strand.
 #pragma once
@@ -63,9 +70,16 @@ bool nonlinear_element_jacobian(const Model& model, const Element& el, const Vec
 /// f_L(|l| / rest_length) (add_muscle_forces; l = x_b - x_a).
 Mat3 muscle_unit_jacobian(const Vec3& l, double rest_length, double force, const ForceLength& fl);
 
+/// dF_a/dl and dF_a/dw of a Hill unit (add_hill_muscle_forces; l = x_b - x_a,
+/// w = v_b - v_a), the direction term of the rate left out (above).
+void hill_unit_jacobians(const Vec3& l, const Vec3& w, double rest_length, double activation, double unit_force,
+                         const HillMuscle& hill, Mat3& dfa_dl, Mat3& dfa_dw);
+
 /// dF/dp (3m x 3m; block (i, j) = dF_i/dp_j) of a tension-only strand through
-/// the points p (3 x m) into K (resized only when its size differs). Returns
-/// false and sets K to zero when the strand is slack.
-bool strand_jacobian(const Points& p, double natural_length, double k_t, Eigen::MatrixXd& K);
+/// the points p (3 x m) with the toe strain `toe_strain` (tendon.hpp) into K
+/// (resized only when its size differs). Returns false and sets K to zero
+/// when the strand is slack.
+bool strand_jacobian(const Points& p, double natural_length, double k_t, Eigen::MatrixXd& K,
+                     double toe_strain = 0.0);
 
 }  // namespace msd

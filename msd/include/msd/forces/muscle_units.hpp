@@ -21,10 +21,16 @@
 // units projected on the line of action. V / Lambda is each unit's share of the
 // muscle's cross-section: a section of area A = V / L crosses on average
 // Lambda / L units, so the section carries a * sigma_max * A in total.
+//
+// The Hill-type law (HillMuscle below) replaces the constant force: each unit
+// is a contractile element with the dimensionless curves of Zajac 1989 in
+// parallel with a passive element, and the muscle's activation follows its
+// excitation with first-order dynamics (activation_step).
 #pragma once
 
 #include "msd/mesh/tet_mesh.hpp"
 
+#include <string>
 #include <vector>
 
 namespace msd {
@@ -45,6 +51,89 @@ struct ForceLength {
   bool enabled = false;  ///< false: the thesis' constant force
   double zero_at = 0.5;  ///< lambda_0
 };
+
+/// The Hill-type muscle (Zajac 1989, "Muscle and tendon: properties, models,
+/// scaling, and application to biomechanics and motor control", Crit. Rev.
+/// Biomed. Eng. 17; the passive curve of Thelen 2003, J. Biomech. Eng. 125).
+/// A unit of rest length l_r has the optimal length l_o = l_r / s0 (s0 =
+/// `rest_fibre_stretch`, the fibres' stretch in the mesh's posture); at length
+/// l and lengthening rate r = dl/dt, with l~ = l / l_o and v~ = r / (l_o v_max),
+/// it pulls with
+///
+///   T = F_u [ a f_A(l~) f_V(v~) + f_P(l~) ],   F_u = the unit's share of
+///       F_max = specific tension x cross-section (unit_force at activation 1),
+///   f_A = 1 - ((l~ - 1) / w)^2 on |l~ - 1| < w, else 0     (w = `active_width`;
+///         w = 0.5: zero at 0.5 and 1.5, Zajac's fig. 3, Gordon et al. 1966),
+///   f_P = (exp(k (l~ - 1) / e0) - 1) / (exp(k) - 1) for l~ > 1, else 0
+///         (k = `passive_shape` 4, e0 = `passive_strain` 0.6: F_max at 60 %
+///         strain; Thelen 2003),
+///   f_V = (1 + v~) / (1 - v~ / A) for -1 < v~ < 0 (shortening; Hill 1938,
+///         A = `curvature` 0.25, Zajac), 0 for v~ <= -1,
+///         f_e - (f_e - 1) / (1 + c v~) for v~ >= 0 (lengthening: to the
+///         plateau f_e = `eccentric_max` 1.8, with c set so that the slope at
+///         v~ = 0 is `eccentric_slope_ratio` (2) times the shortening one,
+///         Katz 1939: c = ratio (1 + 1/A) / (f_e - 1)).
+///
+/// With `force_velocity` false, f_V = 1. The force-velocity term damps each
+/// unit with F_u a f_A f_V' / (l_o v_max) (about F_u / l_o N s/m per unit at
+/// full activation): far stiffer than the tissue's dampers, so it needs an
+/// implicit integrator at the leg's time steps (the leg scene refuses it with an
+/// explicit one).
+struct HillMuscle {
+  bool enabled = false;            ///< false: the thesis' constant force (ForceLength applies)
+  double rest_fibre_stretch = 1.0; ///< s0 = l_r / l_o
+  double active_width = 0.5;       ///< w, in (0, 1)
+  double passive_strain = 0.6;     ///< e0 > 0
+  double passive_shape = 4.0;      ///< k > 0
+  bool force_velocity = true;
+  double max_velocity = 10.0;      ///< v_max, optimal lengths per second (Zajac 1989)
+  double curvature = 0.25;         ///< A > 0
+  double eccentric_max = 1.8;      ///< f_e > 1
+  double eccentric_slope_ratio = 2.0;  ///< > 0
+};
+
+/// Throws msd::Error naming `where` and the field when a Hill parameter is out
+/// of its range (a force-length curve that is not a curve: w outside (0, 1),
+/// e0 or k not positive; s0, v_max, A not positive; f_e <= 1).
+void check_hill_muscle(const HillMuscle& hill, const std::string& where);
+
+/// The curves and their slopes (d/dl~, d/dv~) at one point.
+double hill_active_force_length(double lt, double width, double* slope = nullptr);
+double hill_passive_force_length(double lt, double strain, double shape, double* slope = nullptr);
+double hill_force_velocity(double vt, const HillMuscle& hill, double* slope = nullptr);
+
+/// A unit's tension and its partial derivatives.
+struct UnitTension {
+  double T = 0.0;          ///< N, >= 0
+  double dT_dlength = 0.0; ///< N/m
+  double dT_drate = 0.0;   ///< N s/m
+};
+
+/// T of a Hill unit of rest length `rest_length` at `length` and lengthening
+/// `rate` (formula above).
+UnitTension hill_unit_tension(double length, double rate, double rest_length, double activation, double unit_force,
+                              const HillMuscle& hill);
+
+/// Adds each Hill unit's pull T u (u from a to b; a pulled towards b) to f
+/// (3 x N), with x, v the positions and velocities (3 x N). The passive
+/// element pulls at activation 0 too.
+void add_hill_muscle_forces(const Points& x, const Points& v, const std::vector<ContractileUnit>& units,
+                            double unit_force, double activation, const HillMuscle& hill, Points& f);
+
+/// First-order activation dynamics with Zajac 1989's time constants
+/// (activation 10 ms, deactivation 40 ms) in the linear form of Winters 1995
+/// ("An improved muscle-reflex actuator for use in large-scale
+/// neuromusculoskeletal models", Ann. Biomed. Eng. 23), so that a held
+/// excitation u is reached as the activation a (Zajac's eq. 3 settles at
+/// u / (beta + (1 - beta) u) instead, which would change what a script's
+/// levels mean):
+///   da/dt = (u - a) / tau,  tau = tau_a when u > a, else tau_d,
+/// solved exactly for u held over the step (a never crosses u, so tau is
+/// fixed): a(t + dt) = u + (a - u) exp(-dt / tau). Unconditionally stable;
+/// tau = 0: a = u at once. Throws msd::Error for u outside [0, 1] or
+/// negative times.
+double activation_step(double activation, double excitation, double dt, double tau_activation,
+                       double tau_deactivation);
 
 /// The muscle's units: every distinct edge of a tet of `region` whose
 /// direction is within `max_angle_deg` of +-`direction`. Throws msd::Error for

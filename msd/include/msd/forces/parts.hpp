@@ -7,8 +7,12 @@
 //    force on the anchor, -T u_last, is kept per strand (Scratch::anchor_force)
 //    for the joint that carries it. L0 is Controls::strand_natural_length[s]
 //    when given, else the model's.
+//    Its toe region (Strand::toe_strain) makes the tension rise
+//    quadratically first. Scratch::strand_strain records (L - L0) / L0.
 //  - A muscle's units pull with activation * unit_force (times f_L)
-//    (msd/forces/muscle_units.hpp); activation 0 adds nothing.
+//    (msd/forces/muscle_units.hpp); activation 0 adds nothing. A Hill
+//    muscle's units pull with the Hill law's tension at their length and
+//    lengthening rate (its passive element also at activation 0).
 #pragma once
 
 #include "msd/model/model.hpp"
@@ -24,10 +28,10 @@ Vec3 group_point(const Model& model, int group, const Vec3& rest, const Points& 
 /// The natural length of strand s under `controls`.
 double strand_natural_length(const Model& model, size_t strand, const Controls& controls);
 
-/// Adds the strands' and muscles' forces at positions x to scratch.f and
-/// records scratch.strand_tension and scratch.anchor_force (sized to the
-/// strands; no allocation once sized).
-void add_part_forces(const Model& model, const Points& x, const std::vector<HingeState>& joints,
+/// Adds the strands' and muscles' forces at positions x and velocities v
+/// (3 x N) to scratch.f and records scratch.strand_tension, strand_strain and
+/// anchor_force (sized to the strands; no allocation once sized).
+void add_part_forces(const Model& model, const Points& x, const Points& v, const std::vector<HingeState>& joints,
                      const Controls& controls, Scratch& scratch);
 
 }  // namespace msd

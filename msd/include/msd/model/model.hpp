@@ -147,19 +147,23 @@ struct KinematicGroup {
 struct Strand {
   std::vector<int> nodes;
   double natural_length = 0.0;  ///< m (Controls::strand_natural_length overrides)
-  double k_t = 0.0;             ///< E A / L0, N/m
+  double k_t = 0.0;             ///< E A / L0, N/m (the linear modulus's)
   int anchor_group = -1;
   Vec3 anchor_rest{Vec3::Zero()};
+  double toe_strain = 0.0;      ///< the toe region's end (tendon.hpp); 0: linear from slack
 };
 
 /// A muscle's contractile units (msd/forces/muscle_units.hpp, thesis 5.2.7):
 /// each pulls with activation * unit_force (times f_L of its stretch when
-/// `force_length` is enabled); the activation comes from Controls.
+/// `force_length` is enabled), or - with `hill` enabled - with the Hill-type
+/// law's tension (active, force-velocity and passive); the activation comes
+/// from Controls.
 struct Muscle {
   std::string name;
   std::vector<ContractileUnit> units;
-  double unit_force = 0.0;  ///< N per unit at activation 1
+  double unit_force = 0.0;  ///< N per unit at activation 1 (F_max's share)
   ForceLength force_length;
+  HillMuscle hill;
 };
 
 /// A hinge joint (thesis 5.4) turning one kinematic group - a rigid bone and
@@ -321,6 +325,7 @@ struct Scratch {
   long factorizations = 0;         ///< LU factorisations of the implicit steps so far
   // The moving parts (Model::strands ... self_contact), per evaluation / step:
   std::vector<double> strand_tension;  ///< per strand, N (>= 0)
+  std::vector<double> strand_strain;   ///< per strand, (L - L0) / L0 when taut, else 0
   std::vector<Vec3> anchor_force;      ///< per strand: the force on its anchor, N (zero without one)
   std::vector<JointReport> joints;     ///< per joint
   SelfContactReport self_contact;      ///< skin against skin

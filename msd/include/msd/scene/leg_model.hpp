@@ -71,6 +71,9 @@ struct LegModelOptions {
   /// anatomical insertion (a tendon path's last point), not the nearest mesh
   /// node (at 24.5 mm the knee cap has no node of its own).
   std::vector<std::optional<Vec3>> tendon_insertions;
+  /// Every strand's toe region (msd/forces/tendon.hpp): 0, the thesis' linear
+  /// strand; real tendon about 0.02-0.03 with tendon_modulus about 1.2 GPa.
+  double tendon_toe_strain = 0.0;
   /// Muscles (5.2.7): maximum isometric stress, line of action (unit vectors,
   /// front and back muscle) and the units' angle tolerance.
   double max_muscle_stress = 3.0e5;
@@ -79,6 +82,14 @@ struct LegModelOptions {
   /// The units' force-length relation (msd/forces/muscle_units.hpp); the
   /// thesis' constant force is {false}.
   ForceLength force_length{true, 0.5};
+  /// The Hill-type law instead (msd/forces/muscle_units.hpp); max_muscle_stress
+  /// is then the specific tension (F_max = it x the cross-section).
+  HillMuscle hill;
+  /// Activation dynamics (activation_step): the controls' activations become
+  /// excitations that the muscles' activations follow with these time
+  /// constants (s; Zajac 1989: 0.01 and 0.04). 0: the activation is the
+  /// control (the thesis).
+  double activation_time = 0.0, deactivation_time = 0.0;
   /// The knee's passive structures (ligaments, capsule, the muscles' passive
   /// resistance, lumped; none in the thesis): a viscous torque -b omega, and
   /// an elastic end-range torque -k (theta - theta_hi) beyond `passive_hi`
@@ -121,9 +132,12 @@ struct LegModel {
   MassProperties lower_bone;         ///< the bone's own tets
   std::vector<std::string> tendon_names;
   std::vector<LegStrand> strands;
+  double tendon_toe_strain = 0.0;    ///< every strand's (LegModelOptions)
   std::vector<ContractileUnit> front_units, back_units;
   double front_unit_force = 0.0, back_unit_force = 0.0;  ///< N per unit at activation 1
   ForceLength force_length;
+  HillMuscle hill;
+  double activation_time = 0.0, deactivation_time = 0.0;  ///< s (LegModelOptions)
   Vec3 leg_axis{Vec3::UnitZ()};  ///< up the thigh
   double joint_damping = 0.0, limit_stiffness = 0.0, passive_lo = 0.0, passive_hi = 0.0;
   std::vector<Tet> tets;  ///< the tissue's tets (the contact test's solids)
@@ -139,10 +153,14 @@ inline constexpr int kFemurGroup = 0, kLowerBoneGroup = 1, kKneeJoint = 0, kFron
 struct LegState {
   State tissue;
   HingeState knee;
+  /// The muscles' activations (front, back) under activation dynamics; empty
+  /// until the first step, which starts them at its excitations (steady state).
+  std::vector<double> activation;
 };
 
 struct LegControls {
-  double front_activation = 0.0, back_activation = 0.0;  ///< 0 ... 1
+  /// 0 ... 1; the excitations when the model has activation dynamics.
+  double front_activation = 0.0, back_activation = 0.0;
   std::vector<double> tendon_length_scale;  ///< per tendon (pre-tension: < 1); empty: 1
   /// Per strand (LegModel::strands order): natural lengths replacing the
   /// model's (e.g. measured in a starting posture; infinity: slack); empty:
@@ -159,6 +177,7 @@ struct LegControls {
 struct LegScratch {
   Scratch tissue;
   std::vector<double> tendon_tension;  ///< per tendon: the sum over its strands (N)
+  std::vector<double> tendon_strain;   ///< per tendon: its strands' largest strain (L - L0) / L0
   double knee_torque = 0.0;            ///< about the axis, N m (all of it: tissue, tendons, gravity, passive joint, added)
   double passive_joint_torque = 0.0;   ///< of it, the knee's passive structures
   Vec3 joint_reaction{Vec3::Zero()};   ///< force the femur exerts on the lower leg at the hinge, N
