@@ -144,7 +144,6 @@ std::map<std::string, double> summarise(Recorded recorded, const LegScene& scene
   for (size_t k = 0; k < tendon_names.size(); ++k) {
     const auto& T = recorded["tension_" + tendon_names[k]];
     v["tendon_" + tendon_names[k] + "_tension_max_N"] = *std::max_element(T.begin(), T.end());
-    v["tendon_" + tendon_names[k] + "_strain_max"] = largest("strain_" + tendon_names[k]);
     v["tendon_" + tendon_names[k] + "_straightness_start"] = recorded["straightness_" + tendon_names[k]].front();
     v["tendon_" + tendon_names[k] + "_straightness_max"] = largest("straightness_" + tendon_names[k]);
   }

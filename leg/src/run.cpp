@@ -83,6 +83,7 @@ struct LegLoop {
   std::vector<double> frame_times;
   std::vector<std::pair<double, double>> trajectory;
   std::vector<std::pair<long, msd::Points>> obj_frames;  ///< (frame index, skin positions) of the OBJ frames
+  std::vector<double> strain_peak;  ///< per tendon: the largest strand strain of any step so far
 };
 
 void write_leg_checkpoint(const std::string& path, const std::string& input_hash, const std::string& model_hash,
@@ -117,6 +118,7 @@ void write_leg_checkpoint(const std::string& path, const std::string& input_hash
     w.integer(index);
     w.points(x);
   }
+  w.numbers(l.strain_peak);
   w.snapshot(writer.snapshot());
   w.save(path);
 }
@@ -152,6 +154,9 @@ LegLoop read_leg_checkpoint(tbio::CheckpointReader& r, const msd::LegModel& leg,
     const long index = static_cast<long>(r.integer());
     l.obj_frames.emplace_back(index, r.points());
   }
+  l.strain_peak = r.numbers();
+  if (l.strain_peak.size() != leg.tendon_names.size())
+    throw msd::Error(r.path() + ": the checkpoint is damaged (tendon strains)");
   results = r.snapshot();
   r.finish();
   if (l.state.tissue.x.cols() != leg.tissue.num_nodes() || l.state.tissue.v.cols() != leg.tissue.num_nodes())
@@ -217,6 +222,7 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
   l.state = start_state(leg, scene);
   l.controls = initial_controls(leg, scene);
   l.engaged = !scene.tendons_engage_at;
+  l.strain_peak.assign(leg.tendon_names.size(), 0.0);
   msd::LegScratch scratch;
   drive(scene, variant, 0.0, scene.dt, l.controls);
   {
@@ -283,6 +289,8 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
       }
       drive(scene, variant, k * scene.dt, scene.dt, l.controls);
       msd::step_leg(leg, l.state, l.controls, scene.dt, scratch, scene.integrator);
+      for (size_t t = 0; t < l.strain_peak.size() && t < scratch.tendon_strain.size(); ++t)
+        l.strain_peak[t] = std::max(l.strain_peak[t], scratch.tendon_strain[t]);
       l.state.tissue.t = k * scene.dt;  // no drift from summing dt
       l.step = k;
       sum.steps = k;
@@ -315,6 +323,10 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
   std::vector<std::string> obstacle_names;
   for (const msd::RigidObstacle& ob : leg.obstacles) obstacle_names.push_back(ob.name);
   sum.values = summarise(std::move(recorded), scene, leg.tendon_names, obstacle_names, leg.joint_space_tets);
+  // The strains' peaks over every step of the run (frames miss most steps;
+  // a tear in a lead-in before analysis.from counts too).
+  for (size_t k = 0; k < leg.tendon_names.size() && k < l.strain_peak.size(); ++k)
+    sum.values["tendon_" + leg.tendon_names[k] + "_strain_max"] = l.strain_peak[k];
   for (const std::string& t : leg.tendon_names) {
     const auto it = sum.values.find("tendon_" + t + "_strain_max");
     if (it != sum.values.end() && it->second > scene.tendon_failure_strain) {

@@ -243,7 +243,7 @@ void read_muscles(const Fields& m, const std::string& path, LegScene& s) {
       throw msd::Error(m.where("force_length_zero") + "belongs to the thesis law; with 'law: hill' the curve is muscles.hill.active_width");
     if (o.hill.force_velocity && !msd::is_implicit(s.integrator))
       throw msd::Error(m.where("law") + "the Hill law's force-velocity relation damps each unit far more than the "
-                       "tissue's dampers (about F_max's share / optimal length); it needs 'integrator: backward_euler' "
+                       "tissue's dampers (about 0.5 s x a unit's share of F_max / its optimal length, in N s/m); it needs 'integrator: backward_euler' "
                        "or 'bdf2', or 'hill: {force_velocity: false}'");
   }
   o.activation_time = number(m, "muscles.activation_time");

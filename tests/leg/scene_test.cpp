@@ -303,11 +303,11 @@ TEST(LegScene, TheHillLawRealTendonsAndActivationDynamicsAreReadAndMisuseIsRefus
     EXPECT_NE(e.find(fs::path(path).filename().string() + ":"), std::string::npos) << e;
     EXPECT_NE(e.find(field), std::string::npos) << e;
   };
-  refused(hill("dt: 2.0e-4", "muscles:\n  max_stress: 2.5e5\n  law: hill\n", "hill_explicit"), "law");
+  refused(hill("dt: 2.0e-4", "muscles:\n  max_stress: 2.5e5\n  law: hill\n", "hill_explicit"), "muscles.law");
   EXPECT_NE(error_of(dir + "/hill_explicit.yaml").find("integrator: backward_euler"), std::string::npos);
   EXPECT_NO_THROW(leg::read_leg_scene(
       hill("dt: 2.0e-4", "muscles:\n  max_stress: 2.5e5\n  law: hill\n  hill: {force_velocity: false}\n", "hill_no_fv")));
-  refused(hill(bdf2, "muscles:\n  max_stress: 2.5e5\n  hill: {active_width: 0.4}\n", "hill_without_law"), "hill");
+  refused(hill(bdf2, "muscles:\n  max_stress: 2.5e5\n  hill: {active_width: 0.4}\n", "hill_without_law"), "muscles.hill");
   refused(hill(bdf2, "muscles:\n  max_stress: 2.5e5\n  law: hill\n  hill: {active_width: 1.5}\n", "hill_width"),
           "active_width");
   refused(hill(bdf2, "muscles:\n  max_stress: 2.5e5\n  law: hill\n  hill: {rest_fibre_stretch: 0}\n", "hill_stretch"),

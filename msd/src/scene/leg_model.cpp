@@ -356,7 +356,7 @@ void step_leg(const LegModel& model, LegState& state, const LegControls& c, doub
   tc.activation[kBackMuscleIndex] = c.back_activation;
   if (model.activation_time > 0.0 || model.deactivation_time > 0.0) {
     // The controls are excitations; the activations follow them over the step.
-    if (state.activation.size() != 2) state.activation = {c.front_activation, c.back_activation};
+    if (state.activation.size() != 2) state.activation = {0.0, 0.0};  // muscles at rest before the first step
     for (int k : {kFrontMuscleIndex, kBackMuscleIndex}) {
       const size_t i = static_cast<size_t>(k);
       state.activation[i] = activation_step(state.activation[i], tc.activation[i], dt, model.activation_time,
@@ -434,7 +434,7 @@ double leg_strand_length(const LegModel& model, const LegStrand& s, const Points
 
 double leg_strand_energy(const LegModel& model, const LegStrand& s, const Points& x, double angle,
                          double natural_length) {
-  return tendon_energy_at_length(leg_strand_length(model, s, x, angle), natural_length, s.k_t);
+  return tendon_energy_at_length(leg_strand_length(model, s, x, angle), natural_length, s.k_t, model.tendon_toe_strain);
 }
 
 double passive_joint_torque(const LegModel& model, const HingeState& knee) {

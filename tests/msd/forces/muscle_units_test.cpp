@@ -203,28 +203,6 @@ TEST(HillMuscle, ARelaxedUnitPullsOnlyWhenStretchedPastOptimalLength) {
   EXPECT_GT(msd::hill_unit_tension(rest, 0.0, rest, 0.0, F, h).T, 0.0);
 }
 
-TEST(HillMuscle, UnitForcesHaveNoNetForceOrTorque) {
-  std::mt19937 rng(4);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  msd::Points x(3, 6), v(3, 6);
-  for (int i = 0; i < 6; ++i) {
-    x.col(i) = 0.01 * msd::Vec3(u(rng), u(rng), u(rng));
-    v.col(i) = 0.05 * msd::Vec3(u(rng), u(rng), u(rng));
-  }
-  std::vector<msd::ContractileUnit> units;
-  for (int a = 0; a < 6; ++a)
-    for (int b = a + 1; b < 6; ++b) units.push_back({a, b, 0.9 * (x.col(b) - x.col(a)).norm()});
-  msd::HillMuscle h;
-  h.enabled = true;
-  msd::Points f = msd::Points::Zero(3, 6);
-  msd::add_hill_muscle_forces(x, v, units, 2.0, 0.7, h, f);
-  ASSERT_GT(f.norm(), 0.1);
-  msd::Vec3 torque = msd::Vec3::Zero();
-  for (int i = 0; i < 6; ++i) torque += msd::Vec3(x.col(i)).cross(msd::Vec3(f.col(i)));
-  EXPECT_LT(f.rowwise().sum().norm(), 1e-14);
-  EXPECT_LT(torque.norm(), 1e-16);
-}
-
 TEST(HillMuscle, ACurveThatIsNotACurveIsRefusedNamingItsField) {
   auto refused = [](msd::HillMuscle h, const std::string& field) {
     try {

@@ -75,10 +75,11 @@ struct ForceLength {
 ///         Katz 1939: c = ratio (1 + 1/A) / (f_e - 1)).
 ///
 /// With `force_velocity` false, f_V = 1. The force-velocity term damps each
-/// unit with F_u a f_A f_V' / (l_o v_max) (about F_u / l_o N s/m per unit at
-/// full activation): far stiffer than the tissue's dampers, so it needs an
-/// implicit integrator at the leg's time steps (the leg scene refuses it with an
-/// explicit one).
+/// unit with c = F_u a f_A f_V' / (l_o v_max): at full activation and optimal
+/// length, (1 + 1/A) / v_max = 0.5 s shortening and 1.0 s lengthening times
+/// F_u / l_o (N s/m) - far more than the tissue's dampers - so it needs an
+/// implicit integrator at the leg's time steps (the leg scene refuses it with
+/// an explicit one).
 struct HillMuscle {
   bool enabled = false;            ///< false: the thesis' constant force (ForceLength applies)
   double rest_fibre_stretch = 1.0; ///< s0 = l_r / l_o

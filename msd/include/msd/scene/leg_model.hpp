@@ -154,7 +154,7 @@ struct LegState {
   State tissue;
   HingeState knee;
   /// The muscles' activations (front, back) under activation dynamics; empty
-  /// until the first step, which starts them at its excitations (steady state).
+  /// until the first step, which starts them at 0 (muscles at rest).
   std::vector<double> activation;
 };
 
@@ -214,7 +214,7 @@ void leg_strand_points(const LegModel& model, const LegStrand& strand, const Poi
 double leg_strand_length(const LegModel& model, const LegStrand& strand, const Points& x, double angle);
 
 /// The strand's elastic energy at x with the knee at `angle` for a natural
-/// length L0 (J; tendon_energy_at_length of leg_strand_length).
+/// length L0 (J; tendon_energy_at_length of leg_strand_length, with the model's toe).
 double leg_strand_energy(const LegModel& model, const LegStrand& strand, const Points& x, double angle,
                          double natural_length);
 
