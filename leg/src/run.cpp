@@ -188,6 +188,26 @@ void finish_leg_files(LegRunSummary& sum, const LegScene& scene, const Instrumen
   }
 }
 
+// The tendons' strain peaks over every step of the run (frames miss most
+// steps; a tear in a lead-in before analysis.from counts too) into the
+// summary's values, and a warning for each tendon past the failure strain.
+void add_tendon_strains(LegRunSummary& sum, const LegScene& scene, const msd::LegModel& leg,
+                        const std::vector<double>& strain_peak) {
+  for (size_t k = 0; k < leg.tendon_names.size() && k < strain_peak.size(); ++k)
+    sum.values["tendon_" + leg.tendon_names[k] + "_strain_max"] = strain_peak[k];
+  for (const std::string& t : leg.tendon_names) {
+    const auto it = sum.values.find("tendon_" + t + "_strain_max");
+    if (it != sum.values.end() && it->second > scene.tendon_failure_strain) {
+      char w[256];
+      std::snprintf(w, sizeof w,
+                    "tendon %s: a strand reached %.1f %% strain, past the failure strain %.1f %% "
+                    "(tendons.failure_strain): a real tendon would have torn",
+                    t.c_str(), 100.0 * it->second, 100.0 * scene.tendon_failure_strain);
+      sum.warnings.push_back(w);
+    }
+  }
+}
+
 // One variant: step from rest (or a checkpoint) to the scene's duration,
 // recording every output interval; a blow-up, a write failure or a signal
 // ends the run marked failed with what was recorded.
@@ -323,21 +343,7 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
   std::vector<std::string> obstacle_names;
   for (const msd::RigidObstacle& ob : leg.obstacles) obstacle_names.push_back(ob.name);
   sum.values = summarise(std::move(recorded), scene, leg.tendon_names, obstacle_names, leg.joint_space_tets);
-  // The strains' peaks over every step of the run (frames miss most steps;
-  // a tear in a lead-in before analysis.from counts too).
-  for (size_t k = 0; k < leg.tendon_names.size() && k < l.strain_peak.size(); ++k)
-    sum.values["tendon_" + leg.tendon_names[k] + "_strain_max"] = l.strain_peak[k];
-  for (const std::string& t : leg.tendon_names) {
-    const auto it = sum.values.find("tendon_" + t + "_strain_max");
-    if (it != sum.values.end() && it->second > scene.tendon_failure_strain) {
-      char w[256];
-      std::snprintf(w, sizeof w,
-                    "tendon %s: a strand reached %.1f %% strain, past the failure strain %.1f %% "
-                    "(tendons.failure_strain): a real tendon would have torn",
-                    t.c_str(), 100.0 * it->second, 100.0 * scene.tendon_failure_strain);
-      sum.warnings.push_back(w);
-    }
-  }
+  add_tendon_strains(sum, scene, leg, l.strain_peak);
   finish_leg_files(sum, scene, in, writer, l.frame_times, dir);
   // A completed run's checkpoint (written now, or resumed from) is of no more use.
   const bool resumed_here = !cp.resume.empty() && fs::equivalent(cp.resume, leg_checkpoint_path(dir), ignore);
