@@ -63,9 +63,7 @@ void add_part_forces(const Model& model, const Points& x, const Points& v, const
     }
     fl.leftCols(m).setZero();
     scratch.strand_tension[si] = add_tendon_forces(p, idx, l0, s.k_t, fl, s.toe_strain);
-    double length = 0.0;
-    for (Eigen::Index k = 0; k + 1 < m; ++k) length += (p.col(k + 1) - p.col(k)).norm();
-    scratch.strand_strain[si] = strain_of(length, l0);
+    scratch.strand_strain[si] = strain_of(strand_length(p, idx), l0);
     for (size_t k = 0; k < s.nodes.size(); ++k) f.col(s.nodes[k]) += fl.col(static_cast<Eigen::Index>(k));
     scratch.anchor_force[si] = fl.col(m - 1);
   }
