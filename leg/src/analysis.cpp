@@ -116,6 +116,10 @@ std::map<std::string, double> summarise(Recorded recorded, const LegScene& scene
       times[static_cast<size_t>(std::max_element(angle.begin(), angle.end()) - angle.begin())];
   v["time_of_min_knee_angle_s"] =
       times[static_cast<size_t>(std::min_element(angle.begin(), angle.end()) - angle.begin())];
+  if (const auto femur = recorded.find("femur_angle"); femur != recorded.end()) {
+    v["femur_angle_max_deg"] = *std::max_element(femur->second.begin(), femur->second.end());
+    v["femur_angle_min_deg"] = *std::min_element(femur->second.begin(), femur->second.end());
+  }
   const auto& below = recorded["lower_leg_below_horizontal"];
   v["lower_leg_highest_below_horizontal_deg"] = *std::min_element(below.begin(), below.end());
   v["lower_leg_end_below_horizontal_deg"] = below.back();

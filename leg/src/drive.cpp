@@ -33,6 +33,10 @@ void drive(const LegScene& scene, const LegVariant& variant, double t, double dt
     controls.scripted_knee = msd::HingeState{scene.knee_angle.at(t), scene.knee_angle.rate(t - 0.5 * dt)};
   else
     controls.scripted_knee.reset();
+  if (scene.hip)
+    controls.femur = scene.hip->at(t);
+  else
+    controls.femur.reset();
   for (size_t k = 0; k < scene.obstacle_motion.size(); ++k)
     if (!scene.obstacle_motion[k].empty()) {
       controls.obstacle_offset[k] = scene.obstacle_motion[k].at(t);
@@ -42,7 +46,7 @@ void drive(const LegScene& scene, const LegVariant& variant, double t, double dt
 
 void engage_tendons(const msd::LegModel& model, const msd::LegState& state, msd::LegControls& controls) {
   for (size_t k = 0; k < model.strands.size(); ++k)
-    controls.strand_natural_length[k] = msd::leg_strand_length(model, model.strands[k], state.tissue.x, state.knee.angle);
+    controls.strand_natural_length[k] = msd::leg_strand_length(model, model.strands[k], state.tissue.x, state.knee.angle, state.femur);
 }
 
 }  // namespace leg

@@ -43,6 +43,7 @@ msd::LegState start_state(const msd::LegModel& leg, const LegScene& scene) {
   msd::LegState state = msd::leg_rest_state(leg, scene.initial_angle);
   state.knee.velocity = scene.initial_velocity;
   msd::place_attached(leg.knee, state.knee, leg.tissue.rest_positions, leg.lower_nodes, state.tissue.x, state.tissue.v);
+  if (scene.hip) msd::place_leg_on_femur(state, scene.hip->at(0.0));  // the hip's first pose
   return state;
 }
 
@@ -258,6 +259,7 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
   const auto check_blow_up = [&]() {
     double v = std::abs(l.state.knee.velocity) * size;
     for (const msd::Vec3& o : l.controls.obstacle_velocity) v = std::max(v, o.norm());
+    if (const auto& f = l.controls.femur) v = std::max(v, f->angular_velocity.norm() * size + f->velocity.norm());
     limits.see_load_speed(v);
     limits.check(leg.tissue, l.state.tissue);
   };
@@ -290,6 +292,7 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
   try {
     if (resumed) {
       l = std::move(*resumed);
+      if (scene.hip) l.state.femur = *(l.controls.femur = scene.hip->at(l.state.tissue.t));  // (not in the checkpoint: the script's)
       writer.set_meta("resumed_from", cp.resume + " at t = " + tbio::json_number(l.state.tissue.t) + " s");
       writer.restore(restored);
       for (const auto& r : restored.rows)

@@ -196,6 +196,32 @@ void read_knee(const Fields& knee, LegScene& s) {
   }
 }
 
+// hip: the pivot and [[t, x, y, z, qw, qx, qy, qz], ...] in order of time.
+void read_hip(const Fields& f, LegScene& s) {
+  f.only({"pivot", "keyframes"});
+  msd::PoseKeyframes k(vector3(f, "hip.pivot"));
+  const YAML::Node list = f.node()["keyframes"];
+  if (!list || !list.IsSequence() || list.size() == 0)
+    throw msd::Error(f.where("keyframes") + "needs a list of [t, x, y, z, qw, qx, qy, qz]");
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string entry = "way-point " + std::to_string(i + 1) + " ";
+    if (!list[i].IsSequence() || list[i].size() != 8)
+      throw msd::Error(f.where("keyframes") + entry + "needs eight numbers [t, x, y, z, qw, qx, qy, qz]");
+    double v[8];
+    try {
+      for (size_t c = 0; c < 8; ++c) v[c] = list[i][c].as<double>();
+    } catch (const YAML::Exception&) {
+      throw msd::Error(f.where("keyframes") + entry + "is not eight numbers");
+    }
+    try {
+      k.add(v[0], msd::Vec3(v[1], v[2], v[3]), Eigen::Quaterniond(v[4], v[5], v[6], v[7]));
+    } catch (const msd::Error& e) {
+      throw msd::Error(f.where("keyframes") + e.what());
+    }
+  }
+  s.hip = std::move(k);
+}
+
 void read_tendons(const Fields& t, LegScene& s) {
   t.only({"modulus", "moduli", "strand_area", "insertions", "engage_at", "pretension", "toe_strain", "failure_strain"});
   msd::LegModelOptions& o = s.model;
@@ -364,7 +390,7 @@ LegScene read_leg_scene(const std::string& path) {
   if (!root || !root.IsMap()) throw msd::Error(path + ": the scene must be a YAML mapping");
   const Fields f(root, "", path);
   f.only({"name", "description", "geometry", "mesh_pull", "duration", "dt", "integrator", "newton", "output_interval", "gravity", "terms",
-          "nonlinear_threshold", "threads", "forces", "materials", "knee", "tendons", "muscles", "contact", "analysis", "variants",
+          "nonlinear_threshold", "threads", "forces", "materials", "knee", "hip", "tendons", "muscles", "contact", "analysis", "variants",
           "outputs"});
   LegScene s;
   s.file = path;
@@ -375,6 +401,7 @@ LegScene read_leg_scene(const std::string& path) {
   s.model.passive = material(mats.section("passive"));
   s.model.muscle = material(mats.section("muscle"));
   read_knee(f.section("knee"), s);
+  if (const auto h = f.optional_section("hip")) read_hip(*h, s);
   if (const auto t = f.optional_section("tendons")) read_tendons(*t, s);
   if (const auto m = f.optional_section("muscles")) read_muscles(*m, path, s);
   if (const auto c = f.optional_section("contact")) read_contact(*c, path, s);

@@ -67,6 +67,8 @@ std::vector<Parameter> declare() {
       number("knee.limit_stiffness", "N m/rad", model.limit_stiffness, non_negative, "elastic end-range torque beyond passive_range_deg"),
       other("knee.passive_range_deg", Kind::List, "deg", "range_deg", "[lo, hi]: where the end-range torque starts"),
       number("knee.joint_space_radius", "m", 0.0, non_negative, "also leave out tets squeezed between the bones"),
+      vector3("hip.pivot", "m", std::nullopt, "a scripted hip: the femur's point the keyframes place (the hip's centre), at rest"),
+      other("hip.keyframes", Kind::List, "m, 1", "none", "[t, x, y, z, qw, qx, qy, qz]: where the pivot is and the femur's orientation (a unit quaternion from the rest pose); a C1 spline (Catmull-Rom) through them, at rest at the first and last, held outside; the knee rides on the femur"),
       number("tendons.modulus", "Pa", model.tendon_modulus, positive, "every strand's modulus"),
       other("tendons.moduli", Kind::List, "Pa", "none", "per-tendon overrides, by tendon name"),
       number("tendons.strand_area", "m^2", model.strand_area, positive, "cross-section per strand"),

@@ -30,6 +30,18 @@ MuscleShape muscle_shape(const msd::LegModel& leg, const std::vector<int>& tet_r
   return m;
 }
 
+// Where a point fixed on the femur at rest position p is now (a scripted hip
+// moves it; at rest, p itself, bit for bit).
+msd::Vec3 on_femur(const msd::LegState& state, const msd::Vec3& p) {
+  const msd::RigidMotion& m = state.femur;
+  return m.rotation == msd::Mat3::Identity() && m.offset == msd::Vec3::Zero() ? p : m.place(p);
+}
+
+// The same for a direction.
+msd::Vec3 femur_direction(const msd::LegState& state, const msd::Vec3& d) {
+  return state.femur.rotation == msd::Mat3::Identity() ? d : msd::Vec3(state.femur.rotation * d);
+}
+
 // The skin's largest outward displacement in an area, from where the skin
 // would be if it moved rigidly with its bone (m).
 double bulge(const Instruments& in, const Frame& f, size_t area) {
@@ -38,8 +50,9 @@ double bulge(const Instruments& in, const Frame& f, size_t area) {
   for (int i : in.bulge_vertices[area]) {
     const msd::Vec3 X = in.skin->vertices.col(i);
     const bool lower = in.skin_lower[static_cast<size_t>(i)];
-    const msd::Vec3 ref = lower ? msd::Vec3(leg.knee.centre + f.rotation * (X - leg.knee.centre)) : X;
-    const msd::Vec3 nn = lower ? msd::Vec3(f.rotation * in.skin_normals.col(i)) : msd::Vec3(in.skin_normals.col(i));
+    const msd::Vec3 ref = on_femur(*f.state, lower ? msd::Vec3(leg.knee.centre + f.rotation * (X - leg.knee.centre)) : X);
+    const msd::Vec3 nn = femur_direction(
+        *f.state, lower ? msd::Vec3(f.rotation * in.skin_normals.col(i)) : msd::Vec3(in.skin_normals.col(i)));
     b = std::max(b, (msd::Vec3(f.skin_x.col(i)) - ref).dot(nn));
   }
   return b;
@@ -55,14 +68,15 @@ double elastic_energy(const msd::LegModel& leg, const Frame& f) {
     const double l0 = si < controls.strand_natural_length.size() ? controls.strand_natural_length[si] : s.natural_length;
     if (std::isfinite(l0))
       elastic += msd::leg_strand_energy(leg, s, x, f.state->knee.angle,
-                                        controls.tendon_length_scale[static_cast<size_t>(s.tendon)] * l0);
+                                        controls.tendon_length_scale[static_cast<size_t>(s.tendon)] * l0,
+                                        f.state->femur);
   }
   return elastic;
 }
 
 msd::Vec3 probe_displacement(const Instruments& in, const Frame& f) {
   msd::Vec3 d = msd::Vec3::Zero();
-  for (int i : in.probe_nodes) d += f.state->tissue.x.col(i) - in.leg->tissue.rest_positions.col(i);
+  for (int i : in.probe_nodes) d += f.state->tissue.x.col(i) - on_femur(*f.state, in.leg->tissue.rest_positions.col(i));
   return d / static_cast<double>(in.probe_nodes.size());
 }
 
@@ -156,9 +170,9 @@ void observe(const Instruments& in, const msd::LegState& state, const msd::LegSc
   f.straightness.assign(leg.tendon_names.size(), 0.0);
   std::vector<int> count(leg.tendon_names.size(), 0);
   for (const msd::LegStrand& s : leg.strands) {
-    msd::leg_strand_points(leg, s, x, state.knee.angle, f.strand_points);
+    msd::leg_strand_points(leg, s, x, state.knee.angle, f.strand_points, state.femur);
     const double chord = (f.strand_points.col(f.strand_points.cols() - 1) - f.strand_points.col(0)).norm();
-    f.straightness[static_cast<size_t>(s.tendon)] += chord / msd::leg_strand_length(leg, s, x, state.knee.angle);
+    f.straightness[static_cast<size_t>(s.tendon)] += chord / msd::leg_strand_length(leg, s, x, state.knee.angle, state.femur);
     ++count[static_cast<size_t>(s.tendon)];
   }
   for (size_t k = 0; k < f.straightness.size(); ++k) f.straightness[k] /= std::max(1, count[k]);
@@ -182,7 +196,8 @@ void observe(const Instruments& in, const msd::LegState& state, const msd::LegSc
   f.bones_x.resize(3, in.bones.num_vertices());
   for (int i = 0; i < in.bones.num_vertices(); ++i) {
     const msd::Vec3 p = in.bones.vertices.col(i);
-    f.bones_x.col(i) = in.bone_lower[static_cast<size_t>(i)] ? msd::Vec3(leg.knee.centre + f.rotation * (p - leg.knee.centre)) : p;
+    f.bones_x.col(i) =
+        on_femur(state, in.bone_lower[static_cast<size_t>(i)] ? msd::Vec3(leg.knee.centre + f.rotation * (p - leg.knee.centre)) : p);
   }
 }
 
@@ -278,14 +293,18 @@ std::vector<Sensor> leg_sensors(const Instruments& in) {
   }
   for (size_t a = 0; a < scene.bulge_areas.size(); ++a)
     s.push_back({"bulge_" + scene.bulge_areas[a].name, "m", [&in, a](const Frame& f) { return bulge(in, f, a); }});
+  if (scene.hip)  // the scripted femur's turn about the knee's axis (hip extension +, flexion -)
+    s.push_back({"femur_angle", "deg", [&leg](const Frame& f) {
+                   return msd::rotation_vector(Eigen::Quaterniond(f.state->femur.rotation)).dot(leg.knee.axis) / kDeg;
+                 }});
   s.push_back({"lower_leg_below_horizontal", "deg", [&in](const Frame& f) {
-                 const msd::Vec3 shank = f.rotation * in.shank_rest;
+                 const msd::Vec3 shank = femur_direction(*f.state, f.rotation * in.shank_rest);
                  return std::asin(std::clamp(shank.normalized().dot(in.down), -1.0, 1.0)) / kDeg;
                }});
   s.push_back({"thigh_flesh_sag", "m", [&in](const Frame& f) {
                  double sag = 0.0;
                  for (int i : in.thigh_free)
-                   sag += (f.state->tissue.x.col(i) - in.leg->tissue.rest_positions.col(i)).dot(in.down);
+                   sag += (f.state->tissue.x.col(i) - on_femur(*f.state, in.leg->tissue.rest_positions.col(i))).dot(in.down);
                  return in.thigh_free.empty() ? 0.0 : sag / static_cast<double>(in.thigh_free.size());
                }});
   s.push_back({"kinetic_energy", "J", [&leg](const Frame& f) { return msd::leg_kinetic_energy(leg, *f.state); }});

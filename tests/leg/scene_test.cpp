@@ -318,3 +318,28 @@ TEST(LegScene, TheHillLawRealTendonsAndActivationDynamicsAreReadAndMisuseIsRefus
   refused(variant_of("hamstrings", "strand_area: 2.0e-5", "strand_area: 2.0e-5\n  toe_strain: 0.3", dir + "/toe_big.yaml"),
           "toe_strain");
 }
+
+TEST(LegScene, AScriptedHipIsReadAndKeyframesOutOfOrderOrNotARotationAreRefused) {
+  const leg::LegScene s = leg::read_leg_scene(scenes() + "swing.yaml");
+  ASSERT_TRUE(s.hip.has_value());
+  EXPECT_EQ(s.hip->size(), 7u);
+  EXPECT_LT((s.hip->pivot() - msd::Vec3(0, 0, 0.93)).norm(), 1e-15);
+  EXPECT_LT((s.hip->at(0.25).place(s.hip->pivot()) - msd::Vec3(0, 0, 0.93)).norm(), 1e-12);
+  EXPECT_FALSE(leg::read_leg_scene(scenes() + "gravity.yaml").hip.has_value());  // no hip: the femur held
+  const std::string dir = (fs::path(TB_TEST_OUTPUT_DIR) / "leg_scene_test").string();
+  auto refused = [&](const std::string& from, const std::string& to, const std::string& name,
+                     const std::string& what) {
+    const std::string path = variant_of("swing", from, to, dir + "/" + name + ".yaml");
+    const std::string e = error_of(path);
+    EXPECT_NE(e.find(name + ".yaml:"), std::string::npos) << e;
+    EXPECT_NE(e.find("hip.keyframes"), std::string::npos) << e;
+    EXPECT_NE(e.find(what), std::string::npos) << e;
+  };
+  refused("- [0.75,", "- [0.20,", "hip_out_of_order", "way-point 3: its time");
+  refused("- [0.25, 0, 0, 0.93, 0.9762960, 0, -0.2164396, 0]", "- [0.25, 0, 0, 0.93, 0.9762960, 0, -0.5, 0]",
+          "hip_not_unit", "unit quaternion");
+  refused("- [0.25, 0, 0, 0.93, 0.9762960, 0, -0.2164396, 0]", "- [0.25, 0, 0, 0.93, 1, 0, 0]", "hip_seven",
+          "eight numbers");
+  const std::string no_pivot = variant_of("swing", "  pivot: [0, 0, 0.93]", "", dir + "/hip_no_pivot.yaml");
+  EXPECT_NE(error_of(no_pivot).find("pivot"), std::string::npos) << error_of(no_pivot);
+}

@@ -1,4 +1,4 @@
-// The nine leg scenes (msd/data/scenes/), each run whole from its shipped
+// The ten leg scenes (msd/data/scenes/), each run whole from its shipped
 // file, with its outcome asserted: what the thesis' experiment (6.1-6.7)
 // showed, or for drop.yaml and wobble.yaml what a real leg does. Results stay
 // in build/leg_scenes/NAME to look at (leg.xdmf opens in ParaView).
@@ -204,4 +204,21 @@ TEST(LegScenes, WobbleRingsTheThighsFleshRelaxedAndActive) {
   EXPECT_GT(r.runs[1].values.at("wobble_frequency_hz"), r.runs[0].values.at("wobble_frequency_hz"));
   EXPECT_EQ(r.runs[0].variant, "relaxed");
   EXPECT_EQ(r.runs[1].variant, "active");
+}
+
+TEST(LegScenes, SwingMovesTheFemurByItsKeyframesAndTheLowerLegLags) {
+  const SceneRun r = run("swing");
+  // The femur follows its keyframes: +-25 deg about the knee's axis (the
+  // spline passes through its way-points; frames every 40 ms may miss the
+  // turning point by the spline's flatness there, well under a degree).
+  EXPECT_NEAR(r.value("femur_angle_min_deg"), -25.0, 1.0);
+  EXPECT_NEAR(r.value("femur_angle_max_deg"), 25.0, 1.0);
+  EXPECT_NEAR(r.at("femur_angle", 0.25), -25.0, 1.0);
+  EXPECT_NEAR(r.at("femur_angle", 3.0), 0.0, 1e-9);
+  // While the thigh accelerates forward (hip flexion, the first 0.12 s) the
+  // lower leg's inertia holds it back: the knee flexes (a pendulum hung from
+  // an accelerated pivot trails it). Then, the thigh stopping at 0.25 s, the
+  // lower leg swings through: the knee extends again.
+  EXPECT_GT(r.at("knee_angle", 0.16), 5.0);
+  EXPECT_LT(r.range("knee_angle", 0.3, 0.5).first, r.at("knee_angle", 0.16) - 5.0);
 }

@@ -16,8 +16,8 @@ msd::LegControls initial_controls(const msd::LegModel& model, const LegScene& sc
 
 /// Sets the controls in effect over the step of length dt ending at t:
 /// activations (script, else the variant's constants), the tendons' pre-tension
-/// scale, the added joint torque, the scripted knee (until its release), and
-/// the obstacles' offsets and velocities.
+/// scale, the added joint torque, the scripted knee (until its release), the
+/// femur's motion (a scripted hip), and the obstacles' offsets and velocities.
 void drive(const LegScene& scene, const LegVariant& variant, double t, double dt, msd::LegControls& controls);
 
 /// Whether the scene's slack tendons engage at the step starting at t.

@@ -6,6 +6,7 @@
 
 #include "msd/control/activation_script.hpp"
 #include "msd/control/keyframes.hpp"
+#include "msd/control/pose_keyframes.hpp"
 #include "msd/scene/leg_model.hpp"
 
 #include "tbio/parameter.hpp"
@@ -43,6 +44,9 @@ struct LegScene {
   msd::Keyframes<double> knee_angle;                        ///< rad; empty: dynamic knee
   std::optional<double> knee_release;                  ///< s: after it the knee is dynamic
   msd::Keyframes<double> joint_torque;                      ///< N m
+  /// A scripted hip: the femur's pose through time (the pivot's position and
+  /// the orientation); none: the femur held at rest.
+  std::optional<msd::PoseKeyframes> hip;
   bool insert_at_path_end = true;
   std::optional<double> tendons_engage_at;
   double tendon_failure_strain = 0.1;  ///< the summary warns past it

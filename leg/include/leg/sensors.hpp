@@ -81,7 +81,7 @@ struct Frame {
   msd::Points skin_x;                          ///< embedded skin positions
   msd::Points bones_x;                         ///< the bone surfaces, rigidly placed (3 x in.bones vertices)
   msd::Points obstacles_x;                     ///< the obstacles drawn, at their offsets (3 x in.obstacles vertices)
-  msd::Mat3 rotation{msd::Mat3::Identity()};   ///< the knee hinge's rotation
+  msd::Mat3 rotation{msd::Mat3::Identity()};   ///< the knee hinge's rotation (relative to the femur, LegState::femur)
   double length_ratio[2] = {1.0, 1.0}, radius_ratio[2] = {1.0, 1.0};  ///< front, back muscle
   std::vector<double> straightness;            ///< per tendon: mean chord / path length of its strands
   msd::Points strand_points;                   ///< buffer

@@ -7,13 +7,25 @@
 
 namespace msd {
 
+const RigidMotion* group_motion(const Controls& c, int group) {
+  const size_t g = static_cast<size_t>(group);
+  return group >= 0 && g < c.group_motion.size() && c.group_motion[g] ? &*c.group_motion[g] : nullptr;
+}
+
+const RigidMotion* joint_frame(const Model& model, const Controls& c, int joint) {
+  return group_motion(c, model.joints[static_cast<size_t>(joint)].parent);
+}
+
 Vec3 group_point(const Model& model, int group, const Vec3& rest, const Points& x,
-                 const std::vector<HingeState>& joints) {
+                 const std::vector<HingeState>& joints, const Controls& controls) {
   const KinematicGroup& g = model.groups[static_cast<size_t>(group)];
   if (g.joint >= 0) {
     const Hinge& h = model.joints[static_cast<size_t>(g.joint)].hinge;
-    return h.centre + hinge_rotation(h, joints[static_cast<size_t>(g.joint)].angle) * (rest - h.centre);
+    const Vec3 p = h.centre + hinge_rotation(h, joints[static_cast<size_t>(g.joint)].angle) * (rest - h.centre);
+    const RigidMotion* frame = joint_frame(model, controls, g.joint);
+    return frame ? frame->place(p) : p;
   }
+  if (const RigidMotion* m = group_motion(controls, group)) return m->place(rest);
   if (g.nodes.empty()) return rest;
   const int first = g.nodes.front();
   return rest + (Vec3(x.col(first)) - Vec3(model.rest_positions.col(first)));
@@ -56,7 +68,7 @@ void add_part_forces(const Model& model, const Points& x, const Points& v, const
       fl.resize(3, m);
     }
     for (size_t k = 0; k < s.nodes.size(); ++k) p.col(static_cast<Eigen::Index>(k)) = x.col(s.nodes[k]);
-    p.col(m - 1) = group_point(model, s.anchor_group, s.anchor_rest, x, joints);
+    p.col(m - 1) = group_point(model, s.anchor_group, s.anchor_rest, x, joints, c);
     if (idx.size() != static_cast<size_t>(m)) {
       idx.resize(static_cast<size_t>(m));
       for (size_t k = 0; k < idx.size(); ++k) idx[k] = static_cast<int>(k);

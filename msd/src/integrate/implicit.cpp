@@ -167,7 +167,7 @@ void assemble_parts(const Model& model, const SystemLayout& L, const Points& x, 
     const Eigen::Index points = m + (s.anchor_group >= 0 ? 1 : 0);
     if (p.cols() != points) p.resize(3, points);  // (allocates when strands differ in length; the implicit step allocates anyway)
     for (Eigen::Index k = 0; k < m; ++k) p.col(k) = x.col(s.nodes[static_cast<size_t>(k)]);
-    if (s.anchor_group >= 0) p.col(m) = group_point(model, s.anchor_group, s.anchor_rest, x, joints);
+    if (s.anchor_group >= 0) p.col(m) = group_point(model, s.anchor_group, s.anchor_rest, x, joints, controls);
     if (!strand_jacobian(p, strand_natural_length(model, si, controls), s.k_t, K, s.toe_strain)) continue;
     const int* ids = L.strand_block.data() + L.strand_block_offset[si];
     for (Eigen::Index i = 0; i < m; ++i)
@@ -778,6 +778,9 @@ void advance(const Model& model, State& s, const Controls& c, const std::vector<
   Controls mid = c;
   for (size_t g = 0; g < model.groups.size(); ++g)
     mid.group_offset[g] = 0.5 * (group_offset_now(model, s, g, c.group_offset[g]) + c.group_offset[g]);
+  // A rigid motion halfway: its second-order Taylor estimate half a step back.
+  for (auto& m : mid.group_motion)
+    if (m) m = rigid_motion_before(*m, 0.5 * dt);
   std::vector<HingeState> half(to.size());
   for (size_t j = 0; j < to.size(); ++j)
     half[j] = {0.5 * (from[j].angle + to[j].angle), 0.5 * (from[j].velocity + to[j].velocity)};

@@ -79,6 +79,20 @@ void apply_group_constraints(const Model& model, const Controls& controls, const
     if (grp.joint >= 0) {
       place_attached(model.joints[static_cast<size_t>(grp.joint)].hinge, joints[static_cast<size_t>(grp.joint)],
                      model.rest_positions, grp.nodes, x, v);
+      // On a moving parent: relative placement, then carried by its frame.
+      if (const RigidMotion* frame = joint_frame(model, controls, grp.joint))
+        for (int n : grp.nodes) {
+          const Vec3 p = frame->place(x.col(n));
+          v.col(n) = frame->rotation * Vec3(v.col(n)) + frame->velocity_at(p);
+          x.col(n) = p;
+        }
+      continue;
+    }
+    if (const RigidMotion* m = group_motion(controls, static_cast<int>(g))) {
+      for (int n : grp.nodes) {
+        x.col(n) = m->place(model.rest_positions.col(n));
+        v.col(n) = m->velocity_at(x.col(n));
+      }
       continue;
     }
     const Vec3& off = controls.group_offset.at(g);
@@ -154,6 +168,32 @@ void evaluate_forces(const Model& model, const State& state, const Controls& con
   if (!scratch.f.allFinite()) fail_non_finite_force(model, state);
 }
 
+namespace {
+
+// The hinge's centre and axis now, and the inertia tensor (about the centre)
+// and first moment of its body: its own mass and its group's nodes.
+struct JointBody {
+  Vec3 centre, axis, moment{Vec3::Zero()};
+  Mat3 inertia{Mat3::Zero()};
+  double mass = 0.0;
+};
+
+void add_point_mass(JointBody& b, double m, const Vec3& r) {
+  b.mass += m;
+  b.moment += m * r;
+  b.inertia += m * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
+}
+
+// The fictitious torque about the axis of a hinge on a moving parent (Joint):
+// -n . (I_c alpha) - n . (omega x I_c omega) - n . (S_c x a_c).
+double frame_torque(const JointBody& b, const RigidMotion& p) {
+  const Vec3 a_c = p.acceleration_at(b.centre);
+  const Vec3 w = p.angular_velocity;
+  return -b.axis.dot(b.inertia * p.angular_acceleration + w.cross(b.inertia * w) + b.moment.cross(a_c));
+}
+
+}  // namespace
+
 void step_joints(const Model& model, State& state, const Controls& c, double dt, Scratch& scratch) {
   const size_t nj = model.joints.size();
   if (scratch.joints.size() != nj) scratch.joints.resize(nj);
@@ -164,42 +204,64 @@ void step_joints(const Model& model, State& state, const Controls& c, double dt,
     const Joint& jt = model.joints[j];
     const Hinge& h = jt.hinge;
     HingeState& hs = state.joints[j];
+    const RigidMotion* frame = joint_frame(model, c, static_cast<int>(j));
+    JointBody b;
+    b.centre = frame ? frame->place(h.centre) : h.centre;
+    b.axis = frame ? Vec3(frame->rotation * h.axis) : h.axis;
     // Torque about the centre, resultant and first moment of the turning body:
     // its anchored strands, its nodes, its own mass.
-    Vec3 torque = Vec3::Zero(), applied = Vec3::Zero(), moment = Vec3::Zero();
+    Vec3 torque = Vec3::Zero(), applied = Vec3::Zero();
     for (size_t si = 0; si < model.strands.size() && si < scratch.anchor_force.size(); ++si) {
       const Strand& s = model.strands[si];
       if (s.anchor_group != jt.group) continue;
       const Vec3 fa = scratch.anchor_force[si];
-      torque += (group_point(model, s.anchor_group, s.anchor_rest, state.x, state.joints) - h.centre).cross(fa);
+      torque += (group_point(model, s.anchor_group, s.anchor_rest, state.x, state.joints, c) - b.centre).cross(fa);
       applied += fa;
     }
     for (int i : model.groups[static_cast<size_t>(jt.group)].nodes) {
-      const Vec3 r = Vec3(state.x.col(i)) - h.centre;
+      const Vec3 r = Vec3(state.x.col(i)) - b.centre;
       torque += r.cross(Vec3(f.col(i)) + model.mass[i] * g);
       applied += Vec3(f.col(i)) + model.mass[i] * g;
-      moment += model.mass[i] * r;
+      if (frame)
+        add_point_mass(b, model.mass[i], r);
+      else
+        b.moment += model.mass[i] * r;
     }
     if (jt.body.mass > 0.0) {
-      const Vec3 centre = h.centre + hinge_rotation(h, hs.angle) * (jt.body.centre - h.centre);
-      torque += (centre - h.centre).cross(jt.body.mass * g);
+      const Mat3 rot = frame ? Mat3(frame->rotation * hinge_rotation(h, hs.angle)) : hinge_rotation(h, hs.angle);
+      const Vec3 r = Vec3(b.centre + rot * (jt.body.centre - h.centre)) - b.centre;  // (the bits of c + R (X - c) - c)
+      torque += r.cross(jt.body.mass * g);
       applied += jt.body.mass * g;
-      moment += jt.body.mass * (centre - h.centre);
+      if (frame) {
+        add_point_mass(b, jt.body.mass, r);
+        b.inertia += rot * jt.body.inertia * rot.transpose();
+      } else {
+        b.moment += jt.body.mass * r;
+      }
     }
     const double omega_before = hs.velocity;
     JointReport& rep = scratch.joints[j];
     rep.passive_torque = joint_passive_torque(jt, hs);
-    rep.torque = axial_torque(h, torque) + (j < c.joint_torque.size() ? c.joint_torque[j] : 0.0) + rep.passive_torque;
+    rep.torque = (frame ? b.axis.dot(torque) : axial_torque(h, torque)) + (j < c.joint_torque.size() ? c.joint_torque[j] : 0.0) + rep.passive_torque;
+    if (frame) rep.torque += frame_torque(b, *frame);
     if (j < c.scripted_joint.size() && c.scripted_joint[j])
       hs = *c.scripted_joint[j];
     else
       step_hinge(h, rep.torque, dt, hs);
-    // The body's momentum changes by M a_c = R + applied, a_c = alpha n x r_c
-    // - omega^2 r_c,perp (r_c its centre of mass from the joint's centre).
-    const Vec3 n = h.axis;
-    const Vec3 rc_perp = moment - moment.dot(n) * n;
+    // The body's momentum changes by M a_cm = R + applied: R the reaction.
+    const Vec3 n = b.axis;
     const double alpha = dt > 0.0 ? (hs.velocity - omega_before) / dt : 0.0, w = hs.velocity;
-    rep.reaction = alpha * n.cross(moment) - w * w * rc_perp - applied;
+    if (frame) {
+      // M a_cm = M a_c + Omega' x S_c + Omega x (Omega x S_c), Omega = omega_p + theta' n.
+      const Vec3 big_w = frame->angular_velocity + w * n;
+      const Vec3 big_w_dot = frame->angular_acceleration + alpha * n + w * frame->angular_velocity.cross(n);
+      rep.reaction = b.mass * frame->acceleration_at(b.centre) + big_w_dot.cross(b.moment) +
+                     big_w.cross(big_w.cross(b.moment)) - applied;
+    } else {
+      // a_c = alpha n x r_c - omega^2 r_c,perp (r_c its centre of mass from the joint's centre).
+      const Vec3 rc_perp = b.moment - b.moment.dot(n) * n;
+      rep.reaction = alpha * n.cross(b.moment) - w * w * rc_perp - applied;
+    }
   }
 }
 
@@ -208,6 +270,14 @@ double joint_passive_torque(const Joint& j, const HingeState& s) {
   if (s.angle > j.passive_hi) tau -= j.limit_stiffness * (s.angle - j.passive_hi);
   if (s.angle < j.passive_lo) tau -= j.limit_stiffness * (s.angle - j.passive_lo);
   return tau;
+}
+
+const Controls& controls_before(const Controls& controls, double dt, Scratch& scratch) {
+  Controls& b = scratch.start_controls;
+  b = controls;  // (into the buffers of the last step: no allocation once sized)
+  for (auto& m : b.group_motion)
+    if (m) m = rigid_motion_before(*m, dt);
+  return b;
 }
 
 void step(const Model& model, State& state, const Controls& controls, double dt,
@@ -219,29 +289,33 @@ void step(const Model& model, State& state, const Controls& controls, double dt,
     throw Error("step: state has " + std::to_string(state.joints.size()) + " joints, model " +
                 std::to_string(model.joints.size()));
   const bool joints = !model.joints.empty();
+  // The forces at the step's start, and the joints stepped from them, see the
+  // kinematic groups where the state's nodes are: a rigid motion (given at
+  // the step's end) taken back by dt. Without one, the controls as they are.
+  const Controls& start = controls.group_motion.empty() ? controls : controls_before(controls, dt, scratch);
   switch (integrator) {
     case Integrator::ExplicitEuler: {
-      evaluate_forces(model, state, controls, scratch);
+      evaluate_forces(model, state, start, scratch);
       accelerations(model, scratch, controls.load_scale, state.a);
-      if (joints) step_joints(model, state, controls, dt, scratch);
+      if (joints) step_joints(model, state, start, dt, scratch);
       state.x += dt * state.v;
       state.v += dt * state.a;
       break;
     }
     case Integrator::SymplecticEuler: {
-      evaluate_forces(model, state, controls, scratch);
+      evaluate_forces(model, state, start, scratch);
       accelerations(model, scratch, controls.load_scale, state.a);
-      if (joints) step_joints(model, state, controls, dt, scratch);
+      if (joints) step_joints(model, state, start, dt, scratch);
       state.v += dt * state.a;
       state.x += dt * state.v;
       break;
     }
     case Integrator::VelocityVerlet: {
       if (!state.a_valid || joints) {
-        evaluate_forces(model, state, controls, scratch);
+        evaluate_forces(model, state, start, scratch);
         accelerations(model, scratch, controls.load_scale, state.a);
       }
-      if (joints) step_joints(model, state, controls, dt, scratch);
+      if (joints) step_joints(model, state, start, dt, scratch);
       state.v += 0.5 * dt * state.a;
       state.x += dt * state.v;
       apply_constraints(model, controls, state, &scratch);
@@ -254,8 +328,8 @@ void step(const Model& model, State& state, const Controls& controls, double dt,
     case Integrator::BackwardEuler:
     case Integrator::Bdf2:
       if (joints) {
-        evaluate_forces(model, state, controls, scratch);
-        step_joints(model, state, controls, dt, scratch);
+        evaluate_forces(model, state, start, scratch);
+        step_joints(model, state, start, dt, scratch);
       }
       try {
         if (integrator == Integrator::Bdf2)

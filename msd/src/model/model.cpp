@@ -266,6 +266,17 @@ void check_model_parts(Model& model) {
       throw Error(where + ": damping, limit stiffness and body mass must be >= 0, passive_lo <= passive_hi");
     g.joint = static_cast<int>(j);
   }
+  for (const Joint& jt : model.joints) {
+    if (jt.parent < 0) continue;
+    const std::string where = "joint '" + jt.name + "'";
+    if (jt.parent >= static_cast<int>(model.groups.size()) || jt.parent == jt.group)
+      throw Error(where + ": its parent must be another of the " + std::to_string(model.groups.size()) + " groups, got " +
+                  std::to_string(jt.parent));
+    const KinematicGroup& p = model.groups[static_cast<size_t>(jt.parent)];
+    if (p.joint >= 0) throw Error(where + ": its parent '" + p.name + "' is turned by a joint itself (chains are not supported)");
+    if (!(p.axes[0] && p.axes[1] && p.axes[2]))
+      throw Error(where + ": its parent '" + p.name + "' must prescribe all three axes to carry a hinge");
+  }
   for (const RigidObstacle& ob : model.obstacles)
     for (int node : ob.nodes)
       if (!node_ok(node) || model.kinematic[static_cast<size_t>(node)])

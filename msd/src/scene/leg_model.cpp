@@ -280,6 +280,7 @@ void compile_parts(LegModel& leg) {
   knee.limit_stiffness = leg.limit_stiffness;
   knee.passive_lo = leg.passive_lo;
   knee.passive_hi = leg.passive_hi;
+  knee.parent = kFemurGroup;  // a scripted hip moves the femur, and the knee with it (LegControls::femur)
   tm.joints = {knee};
   tm.strands.clear();
   for (const LegStrand& ls : leg.strands) {
@@ -343,6 +344,17 @@ LegState leg_rest_state(const LegModel& model, double angle, double blend) {
   return s;
 }
 
+void place_leg_on_femur(LegState& state, const RigidMotion& femur) {
+  Points& x = state.tissue.x;
+  Points& v = state.tissue.v;
+  for (Eigen::Index i = 0; i < x.cols(); ++i) {
+    const Vec3 p = femur.place(x.col(i));
+    v.col(i) = femur.rotation * Vec3(v.col(i)) + femur.velocity_at(p);
+    x.col(i) = p;
+  }
+  state.femur = femur;
+}
+
 void step_leg(const LegModel& model, LegState& state, const LegControls& c, double dt, LegScratch& scratch,
               Integrator integrator) {
   const Model& tm = model.tissue;
@@ -373,6 +385,12 @@ void step_leg(const LegModel& model, LegState& state, const LegControls& c, doub
                          (si < c.strand_natural_length.size() ? c.strand_natural_length[si] / s.natural_length : 1.0);
     tc.strand_natural_length[si] = scale * s.natural_length;
   }
+  if (c.femur) {
+    tc.group_motion.assign(tm.groups.size(), std::nullopt);
+    tc.group_motion[kFemurGroup] = *c.femur;
+  } else {
+    tc.group_motion.clear();
+  }
   tc.joint_torque.assign(1, c.joint_torque);
   tc.scripted_joint.assign(1, c.scripted_knee);
   tc.obstacle_offset.assign(c.obstacle_offset.begin(), c.obstacle_offset.end());
@@ -387,6 +405,7 @@ void step_leg(const LegModel& model, LegState& state, const LegControls& c, doub
     throw;
   }
   state.knee = state.tissue.joints[kKneeJoint];
+  state.femur = c.femur ? *c.femur : RigidMotion{};
 
   const Scratch& ts = scratch.tissue;
   scratch.tendon_tension.assign(model.tendon_names.size(), 0.0);
@@ -405,36 +424,44 @@ void step_leg(const LegModel& model, LegState& state, const LegControls& c, doub
 
 namespace {
 
-// Where an anchored strand's insertion is with the knee at `angle`.
-Vec3 anchor_position(const LegModel& model, const LegStrand& s, double angle) {
-  return s.anchor_bone == 2 ? Vec3(model.knee.centre + hinge_rotation(model.knee, angle) * (s.anchor_rest - model.knee.centre))
-                            : s.anchor_rest;
+// Where an anchored strand's insertion is with the knee at `angle` and the
+// femur placed by `femur`.
+Vec3 anchor_position(const LegModel& model, const LegStrand& s, double angle, const RigidMotion& femur) {
+  const Vec3 p = s.anchor_bone == 2
+                     ? Vec3(model.knee.centre + hinge_rotation(model.knee, angle) * (s.anchor_rest - model.knee.centre))
+                     : s.anchor_rest;
+  return femur.rotation == Mat3::Identity() && femur.offset == Vec3::Zero() ? p : femur.place(p);
 }
 
 }  // namespace
 
-void leg_strand_points(const LegModel& model, const LegStrand& s, const Points& x, double angle, Points& p) {
+void leg_strand_points(const LegModel& model, const LegStrand& s, const Points& x, double angle, Points& p,
+                       const RigidMotion& femur) {
   const Eigen::Index m = static_cast<Eigen::Index>(s.nodes.size() + (s.anchored ? 1 : 0));
   if (p.cols() != m) p.resize(3, m);
   for (size_t k = 0; k < s.nodes.size(); ++k) p.col(static_cast<Eigen::Index>(k)) = x.col(s.nodes[k]);
-  if (s.anchored) p.col(m - 1) = anchor_position(model, s, angle);
+  if (s.anchored) p.col(m - 1) = anchor_position(model, s, angle, femur);
 }
 
-Points leg_strand_points(const LegModel& model, const LegStrand& s, const Points& x, double angle) {
+Points leg_strand_points(const LegModel& model, const LegStrand& s, const Points& x, double angle,
+                         const RigidMotion& femur) {
   Points p;
-  leg_strand_points(model, s, x, angle, p);
+  leg_strand_points(model, s, x, angle, p, femur);
   return p;
 }
 
-double leg_strand_length(const LegModel& model, const LegStrand& s, const Points& x, double angle) {
+double leg_strand_length(const LegModel& model, const LegStrand& s, const Points& x, double angle,
+                         const RigidMotion& femur) {
   double length = strand_length(x, s.nodes);
-  if (s.anchored && !s.nodes.empty()) length += (anchor_position(model, s, angle) - Vec3(x.col(s.nodes.back()))).norm();
+  if (s.anchored && !s.nodes.empty())
+    length += (anchor_position(model, s, angle, femur) - Vec3(x.col(s.nodes.back()))).norm();
   return length;
 }
 
 double leg_strand_energy(const LegModel& model, const LegStrand& s, const Points& x, double angle,
-                         double natural_length) {
-  return tendon_energy_at_length(leg_strand_length(model, s, x, angle), natural_length, s.k_t, model.tendon_toe_strain);
+                         double natural_length, const RigidMotion& femur) {
+  return tendon_energy_at_length(leg_strand_length(model, s, x, angle, femur), natural_length, s.k_t,
+                                 model.tendon_toe_strain);
 }
 
 double passive_joint_torque(const LegModel& model, const HingeState& knee) {
@@ -446,9 +473,18 @@ double leg_kinetic_energy(const LegModel& model, const LegState& state) {
   for (int i = 0; i < model.tissue.num_nodes(); ++i)
     e += 0.5 * model.tissue.mass[i] * state.tissue.v.col(i).squaredNorm();
   const double w = state.knee.velocity;
-  if (model.lower_bone.mass > 0.0)
-    e += 0.5 * moment_about_axis(model.lower_bone, model.knee.centre, model.knee.axis) * w * w;
-  return e;
+  if (model.lower_bone.mass <= 0.0) return e;
+  const RigidMotion& f = state.femur;
+  if (f.velocity == Vec3::Zero() && f.angular_velocity == Vec3::Zero())
+    return e + 0.5 * moment_about_axis(model.lower_bone, model.knee.centre, model.knee.axis) * w * w;
+  // On a moving femur: 1/2 M |v_cm|^2 + 1/2 Omega . I_cm Omega, Omega = omega_f + theta' n.
+  const Mat3 rot = f.rotation * hinge_rotation(model.knee, state.knee.angle);
+  const Vec3 c = f.place(model.knee.centre), n = f.rotation * model.knee.axis;
+  const Vec3 cm = c + rot * (model.lower_bone.centre - model.knee.centre);
+  const Vec3 omega = f.angular_velocity + w * n;
+  const Vec3 v_cm = f.velocity_at(cm) + w * n.cross(cm - c);
+  const Mat3 inertia = rot * model.lower_bone.inertia * rot.transpose();
+  return e + 0.5 * model.lower_bone.mass * v_cm.squaredNorm() + 0.5 * omega.dot(inertia * omega);
 }
 
 }  // namespace msd

@@ -813,7 +813,7 @@ TEST(Implicit, AssembledJacobiansOfToeStrandsAndHillMusclesMatchFiniteDifference
     const msd::Strand& st = m.strands[k];
     std::vector<Vec3> p;
     for (int node : st.nodes) p.push_back(s.x.col(node));
-    if (st.anchor_group >= 0) p.push_back(msd::group_point(m, st.anchor_group, st.anchor_rest, s.x, s.joints));
+    if (st.anchor_group >= 0) p.push_back(msd::group_point(m, st.anchor_group, st.anchor_rest, s.x, s.joints, c));
     for (size_t i = 0; i + 1 < p.size(); ++i) length[k] += (p[i + 1] - p[i]).norm();
   }
   c.strand_natural_length = {length[0] / 1.015, length[1] / 1.05};

@@ -1,5 +1,7 @@
 #include "msd/integrate/step.hpp"
 
+#include "msd/forces/parts.hpp"
+
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -244,4 +246,169 @@ TEST(Step, BadPartsAreRefusedByName) {
   s.joints.clear();
   msd::Scratch scratch;
   EXPECT_THROW(msd::step(ok, s, still(ok), 1e-3, msd::Integrator::SymplecticEuler, scratch), msd::Error);
+}
+
+// --- A hinge on a moving parent (Joint::parent, Controls::group_motion) -------
+
+namespace {
+
+// A 1 mm tet hanging 1 m below a hinge about x through the origin - a point
+// mass on a massless rod, to O(1e-6) - whose frame is group 0 (no nodes of its
+// own: it only carries the hinge). Joint damping b lets it settle.
+msd::Model hanging_bob(double damping) {
+  msd::TetMesh mesh = testing_support::corner_tet_mesh(1e-3);
+  mesh.nodes.row(2).array() -= 1.0;
+  msd::TissueMaterial mat;
+  mat.density = 1000.0;
+  mat.k_s = 100.0;
+  msd::ModelOptions o;
+  o.terms = msd::kSprings | msd::kGravity;
+  o.gravity = Vec3(0, 0, -9.81);
+  o.region_materials = {mat};
+  o.groups = {{"thigh", {}, {true, true, true}}, {"bob", {0, 1, 2, 3}, {true, true, true}}};
+  msd::Model m = msd::build_model(mesh, o);
+  msd::Joint j;
+  j.name = "knee";
+  j.group = 1;
+  j.parent = 0;
+  j.hinge.axis = Vec3::UnitX();
+  j.hinge.min_angle = -3.0;
+  j.hinge.max_angle = 3.0;
+  for (int i = 0; i < 4; ++i) {
+    const Vec3 r = m.rest_positions.col(i);
+    j.hinge.inertia += m.mass[i] * (r - r.dot(j.hinge.axis) * j.hinge.axis).squaredNorm();
+  }
+  j.damping = damping * j.hinge.inertia;
+  m.joints = {j};
+  msd::check_model_parts(m);
+  return m;
+}
+
+// Runs the bob for `duration` with the parent's motion `motion(t)` at each
+// step's end; returns the settled angle.
+template <class Motion>
+double settle(const msd::Model& m, msd::Integrator integ, double duration, Motion motion, msd::Scratch& scratch,
+              msd::State& s) {
+  s = msd::rest_state(m);
+  s.joints[0].angle = 0.1;
+  msd::Controls c = still(m);
+  c.group_motion.assign(2, std::nullopt);
+  const double dt = 1e-3;
+  c.group_motion[0] = motion(0.0);
+  msd::apply_constraints(m, c, s);
+  for (long k = 0; k < std::lround(duration / dt); ++k) {
+    c.group_motion[0] = motion((k + 1) * dt);
+    msd::step(m, s, c, dt, integ, scratch);
+  }
+  return s.joints[0].angle;
+}
+
+}  // namespace
+
+TEST(Step, AHingeOnASpinningParentSettlesWhereTheCentrifugalTorqueBalancesTheWeight) {
+  // The parent spins about the vertical at omega = 2 sqrt(g/L): the hanging
+  // bob (a conical pendulum, the flyball governor) settles at
+  // cos theta = g / (omega^2 L) = 1/4, theta = 75.5 deg (closed form).
+  const msd::Model m = hanging_bob(3.0);
+  const double L = 1.0 - 0.25e-3;  // the tet's centre below the axis
+  const double omega = 2.0 * std::sqrt(9.81 / L);
+  auto spin = [&](double t) {
+    msd::RigidMotion p;
+    p.rotation = Eigen::AngleAxisd(omega * t, Vec3::UnitZ()).toRotationMatrix();
+    p.angular_velocity = Vec3(0, 0, omega);
+    return p;
+  };
+  for (msd::Integrator integ : {msd::Integrator::SymplecticEuler, msd::Integrator::Bdf2}) {
+    msd::Scratch scratch;
+    msd::State s;
+    const double theta = settle(m, integ, 8.0, spin, scratch, s);
+    EXPECT_NEAR(std::abs(theta), std::acos(0.25), 2e-3) << msd::to_string(integ);
+    // The nodes ride with the parent: each where R_p R(theta) X puts it, moving with Omega x x.
+    const msd::RigidMotion p = spin(s.t);
+    const Eigen::Matrix3d R = p.rotation * msd::hinge_rotation(m.joints[0].hinge, theta);
+    const Vec3 big_w = p.angular_velocity + s.joints[0].velocity * (p.rotation * Vec3::UnitX());
+    for (int i = 0; i < 4; ++i) {
+      EXPECT_LT((Vec3(s.x.col(i)) - R * Vec3(m.rest_positions.col(i))).norm(), 1e-10);  // (8 s of round-off)
+      EXPECT_LT((Vec3(s.v.col(i)) - big_w.cross(Vec3(s.x.col(i)))).norm(), 1e-9);
+    }
+    // The bob flies out sideways: 1 m * sin(75.5 deg) from the spin axis.
+    EXPECT_NEAR(Vec3(s.x.col(0)).head<2>().norm(), std::sin(std::acos(0.25)), 3e-3);
+  }
+  // A parent at rest changes nothing: the bob hangs.
+  msd::Scratch scratch;
+  msd::State s;
+  EXPECT_NEAR(settle(m, msd::Integrator::SymplecticEuler, 8.0, [](double) { return msd::RigidMotion{}; }, scratch, s),
+              0.0, 1e-3);
+}
+
+TEST(Step, AHingeOnAnAcceleratingParentTrailsAtTheAngleOfTheApparentGravity) {
+  // The parent accelerates at a = g/2 along +y: the bob trails at
+  // tan theta = a / g (26.6 deg), behind (y < 0 of the hinge), and the hinge
+  // pulls it with M (a - g) (closed form).
+  const msd::Model m = hanging_bob(3.0);
+  const double a = 0.5 * 9.81;
+  auto push = [&](double t) {
+    msd::RigidMotion p;
+    p.offset = Vec3(0, 0.5 * a * t * t, 0);
+    p.velocity = Vec3(0, a * t, 0);
+    p.acceleration = Vec3(0, a, 0);
+    return p;
+  };
+  for (msd::Integrator integ : {msd::Integrator::SymplecticEuler, msd::Integrator::Bdf2}) {
+    msd::Scratch scratch;
+    msd::State s;
+    const double theta = settle(m, integ, 8.0, push, scratch, s);
+    EXPECT_NEAR(std::abs(theta), std::atan(0.5), 2e-3) << msd::to_string(integ);
+    const Vec3 hinge = push(s.t).offset;
+    EXPECT_LT(s.x(1, 0) - hinge.y(), -0.4) << msd::to_string(integ);
+    double mass = 0.0;
+    for (int i = 0; i < 4; ++i) mass += m.mass[i];
+    const Vec3 expected = mass * (Vec3(0, a, 0) - m.gravity);
+    EXPECT_LT((scratch.joints[0].reaction - expected).norm(), 2e-3 * expected.norm()) << msd::to_string(integ);
+  }
+}
+
+TEST(Step, ARigidMotionPlacesItsGroupAndCarriesTheAnchorsOnIt) {
+  msd::Model m = hanging_bob(0.0);
+  msd::State s = msd::rest_state(m);
+  s.joints[0].angle = 0.4;
+  msd::Controls c = still(m);
+  msd::RigidMotion p;
+  p.rotation = Eigen::AngleAxisd(0.3, Vec3(0, 1, 1).normalized()).toRotationMatrix();
+  p.offset = Vec3(0.1, 0.2, 0.3);
+  p.velocity = Vec3(1, 0, 0);
+  p.angular_velocity = Vec3(0, 2, 0);
+  c.group_motion = {p, std::nullopt};
+  msd::apply_constraints(m, c, s);
+  const Eigen::Matrix3d R = p.rotation * msd::hinge_rotation(m.joints[0].hinge, 0.4);
+  const Vec3 X(0.0, 0.0, -0.5);  // a point on the bob's rod
+  EXPECT_LT((msd::group_point(m, 1, X, s.x, s.joints, c) - (R * X + p.offset)).norm(), 1e-14);
+  EXPECT_LT((Vec3(s.x.col(3)) - (R * Vec3(m.rest_positions.col(3)) + p.offset)).norm(), 1e-14);
+  // The bob's group with a motion of its own and no joint: placed by it.
+  m.joints.clear();
+  m.groups[1].joint = -1;
+  c.group_motion = {std::nullopt, p};
+  msd::apply_constraints(m, c, s);
+  for (int i = 0; i < 4; ++i) {
+    const Vec3 x = p.place(m.rest_positions.col(i));
+    EXPECT_LT((Vec3(s.x.col(i)) - x).norm(), 1e-14);
+    EXPECT_LT((Vec3(s.v.col(i)) - p.velocity_at(x)).norm(), 1e-14);
+  }
+  EXPECT_LT((msd::group_point(m, 1, X, s.x, s.joints, c) - p.place(X)).norm(), 1e-14);
+}
+
+TEST(Step, AHingesParentMustBeAnotherUnjointedGroupPrescribingAllAxes) {
+  for (int bad = 0; bad < 3; ++bad) {
+    msd::Model m = hanging_bob(0.0);
+    m.groups[1].joint = -1;
+    if (bad == 0) m.joints[0].parent = 1;                     // itself
+    if (bad == 1) m.joints[0].parent = 5;                     // out of range
+    if (bad == 2) m.groups[0].axes[1] = false;                // frees an axis
+    try {
+      msd::check_model_parts(m);
+      FAIL() << "case " << bad << " was accepted";
+    } catch (const msd::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("joint 'knee': its parent"), std::string::npos) << e.what();
+    }
+  }
 }

@@ -4,6 +4,7 @@
 // stiffness, and a muscle's units add no net force.
 #include "msd/scene/leg_model.hpp"
 
+#include "msd/control/pose_keyframes.hpp"
 #include "msd/geometry/leg_generator.hpp"
 
 #include <gtest/gtest.h>
@@ -432,4 +433,69 @@ TEST(LegModel, AHillLegWithRealToeTendonsFollowsItsExcitationThroughActivationDy
   ASSERT_EQ(scratch.tendon_strain.size(), 4u);
   EXPECT_GT(std::max(scratch.tendon_strain[0], scratch.tendon_strain[1]), 0.0);
   EXPECT_LT(std::max(scratch.tendon_strain[0], scratch.tendon_strain[1]), 0.05);
+}
+
+TEST(LegModel, AFemurMovingAtConstantVelocityCarriesTheLegWithoutChangingItsMotion) {
+  // Galilean invariance: standing, the knee bent 17 deg and let go, once with
+  // the femur held and once with the whole leg carried at 0.5 m/s (the femur
+  // scripted, LegControls::femur). Relative to the femur, the same motion to
+  // round-off: a moving frame that is not inertial would show.
+  msd::LegModelOptions o = options();
+  o.gravity = msd::Vec3(0, 0, -9.81);
+  const msd::LegModel leg = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  const msd::Vec3 V(0.5, 0.2, -0.3);
+  auto carried = [&](double t) {
+    msd::RigidMotion m;
+    m.offset = V * t;
+    m.velocity = V;
+    return m;
+  };
+  msd::LegState held = msd::leg_rest_state(leg, 0.3), moving = held;
+  msd::place_leg_on_femur(moving, carried(0.0));
+  msd::LegScratch a, b;
+  msd::LegControls c;
+  const double dt = 1e-4;
+  for (int k = 1; k <= 400; ++k) {
+    msd::step_leg(leg, held, {}, dt, a);
+    c.femur = carried(k * dt);
+    msd::step_leg(leg, moving, c, dt, b);
+  }
+  EXPECT_GT(std::abs(held.knee.angle - 0.3), 0.003);  // it did move (0.3 deg in 40 ms)
+  EXPECT_NEAR(moving.knee.angle, held.knee.angle, 1e-9);
+  const msd::Points shifted = held.tissue.x.colwise() + V * held.tissue.t;
+  EXPECT_LT((moving.tissue.x - shifted).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((moving.tissue.v.colwise() - V - held.tissue.v).cwiseAbs().maxCoeff(), 1e-7);
+  EXPECT_NEAR(b.knee_torque, a.knee_torque, 1e-6 * (1.0 + std::abs(a.knee_torque)));
+}
+
+TEST(LegModel, AThighSwungForwardFromTheHipLeavesTheLowerLegBehindAndTheKneeFlexes) {
+  // Standing, relaxed; the femur turned forward (hip flexion) by keyframes
+  // about the thigh's top. The lower leg's inertia keeps it behind: the knee
+  // flexes while the thigh accelerates, and the femur's nodes are where the
+  // keyframes put them.
+  msd::LegModelOptions o = options();
+  o.gravity = msd::Vec3(0, 0, -9.81);
+  o.min_flexion = -0.2;
+  const msd::LegModel leg = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  msd::PoseKeyframes hip(msd::Vec3(0, 0, 0.93));
+  hip.add(0.0, msd::Vec3(0, 0, 0.93), Eigen::Quaterniond::Identity());
+  hip.add(0.4, msd::Vec3(0, 0, 0.93), Eigen::Quaterniond(Eigen::AngleAxisd(-30.0 * kDeg, msd::Vec3::UnitY())));
+  msd::LegState s = msd::leg_rest_state(leg, 0.0);
+  msd::LegScratch scratch;
+  msd::LegControls c;
+  const double dt = 1e-4;
+  double most = 0.0;
+  for (int k = 1; k <= 1500; ++k) {
+    c.femur = hip.at(k * dt);
+    msd::step_leg(leg, s, c, dt, scratch);
+    most = std::max(most, s.knee.angle);
+  }
+  EXPECT_GT(most, 3.0 * kDeg);
+  const msd::RigidMotion f = hip.at(s.tissue.t);
+  for (int i : leg.femur_nodes) EXPECT_LT((msd::Vec3(s.tissue.x.col(i)) - f.place(leg.tissue.rest_positions.col(i))).norm(), 1e-12);
+  // The lower leg rides on the turned femur: its nodes at R_f (c + R(theta) (X - c)) + d_f.
+  const msd::Mat3 R = f.rotation * msd::hinge_rotation(leg.knee, s.knee.angle);
+  const msd::Vec3 c_w = f.place(leg.knee.centre);
+  for (int i : leg.lower_nodes)
+    EXPECT_LT((msd::Vec3(s.tissue.x.col(i)) - (c_w + R * (leg.tissue.rest_positions.col(i) - leg.knee.centre))).norm(), 1e-12);
 }

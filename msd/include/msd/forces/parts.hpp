@@ -19,11 +19,18 @@
 
 namespace msd {
 
+/// Group g's rigid motion in `controls` (Controls::group_motion), or null.
+const RigidMotion* group_motion(const Controls& controls, int group);
+
+/// The rigid motion carrying joint j's hinge (its parent's), or null: fixed.
+const RigidMotion* joint_frame(const Model& model, const Controls& controls, int joint);
+
 /// Where a point fixed on kinematic group g (at `rest` when the group is at
-/// rest) is: turned by the group's joint, x = c + R(theta) (rest - c), or
-/// translated with the group's first node.
+/// rest) is: turned by the group's joint, x = c + R(theta) (rest - c) (then
+/// carried by the joint's frame, when it has one), placed by the group's rigid
+/// motion, or translated with the group's first node.
 Vec3 group_point(const Model& model, int group, const Vec3& rest, const Points& x,
-                 const std::vector<HingeState>& joints);
+                 const std::vector<HingeState>& joints, const Controls& controls);
 
 /// The natural length of strand s under `controls`.
 double strand_natural_length(const Model& model, size_t strand, const Controls& controls);

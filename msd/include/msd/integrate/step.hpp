@@ -74,7 +74,14 @@ void step_joints(const Model& model, State& state, const Controls& controls, dou
 /// internal forces in scratch.f, with s = load_scale.
 void accelerations(const Model& model, const Scratch& scratch, double load_scale, Points& a);
 
-/// Advances `state` by dt. `controls` prescribe the kinematic groups at t + dt.
+/// `controls` at the start of a step of dt that they prescribe at its end:
+/// each rigid motion (Controls::group_motion) taken back by dt
+/// (rigid_motion_before, second order), into scratch.start_controls.
+const Controls& controls_before(const Controls& controls, double dt, Scratch& scratch);
+
+/// Advances `state` by dt. `controls` prescribe the kinematic groups at t + dt;
+/// the forces at the step's start see the groups' rigid motions there
+/// (controls_before).
 /// Throws SimulationFailure (naming the element, node, time and step) if a force,
 /// position or velocity becomes non-finite.
 void step(const Model& model, State& state, const Controls& controls, double dt,

@@ -12,6 +12,7 @@
 #include "msd/material/tissue_material.hpp"
 #include "msd/mesh/tet_mesh.hpp"
 #include "msd/skeleton/hinge.hpp"
+#include "msd/skeleton/rigid_motion.hpp"
 #include "msd/skeleton/rigid_body.hpp"
 
 #include <Eigen/Core>
@@ -129,7 +130,9 @@ struct VolumeGroups {
 /// Nodes whose motion is prescribed: for each prescribed axis, position =
 /// rest position + offset(t) and velocity = velocity(t), both from Controls.
 /// (A bonded platen prescribes all three axes; a frictionless one only its
-/// normal axis.)
+/// normal axis.) Or, with a rigid motion in Controls::group_motion (all
+/// three axes prescribed), x = R X + d, v = omega x (R X) + d' (a bone that
+/// turns, msd/skeleton/rigid_motion.hpp).
 /// A group driven by a joint (Model::joints) turns rigidly with it instead:
 /// x = c + R(theta) (X - c), v = omega n x (x - c) (msd/skeleton/hinge.hpp).
 struct KinematicGroup {
@@ -175,9 +178,25 @@ struct Muscle {
 /// joint is stepped by semi-implicit Euler with the torque at the start of
 /// the step, whatever the nodes' integrator (a partitioned scheme: the
 /// implicit integrator solves the tissue with the group at its new angle).
+///
+/// The hinge may sit on a moving bone: with `parent` >= 0 and a rigid motion
+/// of that group in Controls::group_motion, the centre and axis are fixed in
+/// the parent (x = R_p (c + R(theta)(X - c)) + d_p) and theta is the angle
+/// relative to it. Its equation is then taken in the parent's accelerating,
+/// turning frame (about the moving centre c_w, axis n_w = R_p n):
+///
+///   I_n theta'' = tau_n - n_w . (I_c alpha_p) - n_w . (omega_p x I_c omega_p)
+///                 - n_w . (S_c x a_c),
+///
+/// I_c the body's inertia tensor about c_w (its own and its nodes' masses),
+/// S_c = sum m (x - c_w) its first moment, a_c the centre's acceleration
+/// (RigidMotion::acceleration_at); the Coriolis terms cancel about the axis.
+/// (From dH_c/dt = tau_c - S_c x a_c with H_c = I_c Omega, Omega = omega_p +
+/// theta' n_w.) Without a motion of the parent the hinge stays where it is.
 struct Joint {
   std::string name;
   int group = -1;
+  int parent = -1;      ///< the group carrying the hinge (-1: fixed in space)
   Hinge hinge;          ///< centre, unit axis, range, inertia (of body and group nodes)
   MassProperties body;  ///< the rigid body's own mass beside its nodes' (0: none)
   double damping = 0.0, limit_stiffness = 0.0, passive_lo = 0.0, passive_hi = 0.0;
@@ -283,6 +302,10 @@ State rest_state(const Model& model);
 struct Controls {
   std::vector<Vec3> group_offset;
   std::vector<Vec3> group_velocity;
+  /// Per group (empty or unset: none): a rigid motion placing the group
+  /// instead of its offset and velocity, and carrying the joints whose parent
+  /// it is (Joint::parent).
+  std::vector<std::optional<RigidMotion>> group_motion{};
   /// Rigid motion (translation) of each obstacle from its rest placement, and
   /// its velocity; empty: obstacles at rest.
   std::vector<Vec3> obstacle_offset{};
@@ -334,6 +357,7 @@ struct Scratch {
   std::vector<HingeState> joints_before;   ///< the joints at the step's start (buffer)
   Points strand_points, strand_forces;     ///< an anchored strand's points and forces (buffers)
   std::vector<int> strand_index;           ///< 0 ... m-1 (buffer)
+  Controls start_controls;                 ///< the controls at a step's start (controls_before; buffer)
 };
 
 }  // namespace msd

@@ -8,7 +8,8 @@
 //
 // What moves how:
 //  - femur nodes (the upper bone's tet nodes and bone points) are held at rest
-//    (the thigh fixed, thesis 3.7.2 "kinematic");
+//    (the thigh fixed, thesis 3.7.2 "kinematic"), or moved rigidly by a
+//    scripted hip (LegControls::femur), which carries the knee's hinge;
 //  - lower-bone nodes (its tet nodes and bone points) follow the hinge exactly,
 //    x = c + R(theta)(X - c) (msd/skeleton/hinge.hpp);
 //  - every other node is integrated (semi-implicit Euler by default) under the
@@ -153,6 +154,9 @@ inline constexpr int kFemurGroup = 0, kLowerBoneGroup = 1, kKneeJoint = 0, kFron
 struct LegState {
   State tissue;
   HingeState knee;
+  /// The femur's placement now (the rest pose unless the hip is scripted,
+  /// LegControls::femur): the last step's.
+  RigidMotion femur;
   /// The muscles' activations (front, back) under activation dynamics; empty
   /// until the first step, which starts them at 0 (muscles at rest).
   std::vector<double> activation;
@@ -168,6 +172,10 @@ struct LegControls {
   std::vector<double> strand_natural_length;
   double joint_torque = 0.0;                ///< added about the hinge axis, N m
   std::optional<HingeState> scripted_knee;  ///< kinematic override of the angle
+  /// The femur's rigid motion at the step's end - a scripted hip
+  /// (msd/control/pose_keyframes.hpp); the knee rides on it (Joint::parent).
+  /// Unset: the femur held at rest (the thesis).
+  std::optional<RigidMotion> femur;
   /// Each obstacle's translation from its rest placement and its velocity
   /// (scripted motion); empty: at rest.
   std::vector<Vec3> obstacle_offset, obstacle_velocity;
@@ -197,26 +205,35 @@ LegModel build_leg_model(const LimbMesh& mesh, const std::vector<TendonStrands>&
 /// between (h = `blend`, m) - the flesh around the knee shares the bend.
 LegState leg_rest_state(const LegModel& model, double angle, double blend = 0.0245);
 
+/// Carries the whole leg rigidly into the femur's placement `femur` (from the
+/// rest pose at rest): x -> R x + d, v -> R v + the femur's velocity at the
+/// new x; state.femur = femur. A scripted hip's first pose.
+void place_leg_on_femur(LegState& state, const RigidMotion& femur);
+
 /// One step of dt: msd::step on the tissue model with `integrator`. Throws
 /// SimulationFailure (when, where) on a non-finite value.
 void step_leg(const LegModel& model, LegState& state, const LegControls& controls, double dt, LegScratch& scratch,
               Integrator integrator = Integrator::SymplecticEuler);
 
-/// The strand's points (3 x m) at positions x with the knee at `angle`: its
-/// nodes, then its anchor where it has one.
-Points leg_strand_points(const LegModel& model, const LegStrand& strand, const Points& x, double angle);
+/// The strand's points (3 x m) at positions x with the knee at `angle` and the
+/// femur placed by `femur` (LegState::femur): its nodes, then its anchor
+/// where it has one.
+Points leg_strand_points(const LegModel& model, const LegStrand& strand, const Points& x, double angle,
+                         const RigidMotion& femur = {});
 
 /// The same into p (resized to 3 x m only when its size differs).
-void leg_strand_points(const LegModel& model, const LegStrand& strand, const Points& x, double angle, Points& p);
+void leg_strand_points(const LegModel& model, const LegStrand& strand, const Points& x, double angle, Points& p,
+                       const RigidMotion& femur = {});
 
 /// Length of the strand's polyline - its nodes, then its anchor - at x with
-/// the knee at `angle` (m).
-double leg_strand_length(const LegModel& model, const LegStrand& strand, const Points& x, double angle);
+/// the knee at `angle` and the femur placed by `femur` (m).
+double leg_strand_length(const LegModel& model, const LegStrand& strand, const Points& x, double angle,
+                         const RigidMotion& femur = {});
 
 /// The strand's elastic energy at x with the knee at `angle` for a natural
 /// length L0 (J; tendon_energy_at_length of leg_strand_length, with the model's toe).
 double leg_strand_energy(const LegModel& model, const LegStrand& strand, const Points& x, double angle,
-                         double natural_length);
+                         double natural_length, const RigidMotion& femur = {});
 
 /// The passive joint torque at a hinge state (N m).
 double passive_joint_torque(const LegModel& model, const HingeState& knee);
