@@ -77,16 +77,20 @@ double elastic_energy(const msd::LegModel& leg, const Frame& f) {
 msd::Vec3 probe_displacement(const Instruments& in, const Frame& f) {
   msd::Vec3 d = msd::Vec3::Zero();
   for (int i : in.probe_nodes) d += f.state->tissue.x.col(i) - on_femur(*f.state, in.leg->tissue.rest_positions.col(i));
-  return d / static_cast<double>(in.probe_nodes.size());
+  d /= static_cast<double>(in.probe_nodes.size());
+  // In the femur's axes (a scripted femur turns them).
+  return f.state->femur.rotation == msd::Mat3::Identity() ? d : msd::Vec3(f.state->femur.rotation.transpose() * d);
 }
 
 }  // namespace
 
-void length_and_radius(const msd::Points& x, const MuscleShape& m, double& length, double& radius) {
+void length_and_radius(const msd::Points& x, const MuscleShape& m, double& length, double& radius,
+                       const msd::Vec3* line_now) {
+  const msd::Vec3& line = line_now ? *line_now : m.line;
   double lo = 1e300, hi = -1e300;
   msd::Vec3 c = msd::Vec3::Zero();
   for (int i : m.nodes) {
-    const double s = m.line.dot(x.col(i));
+    const double s = line.dot(x.col(i));
     lo = std::min(lo, s);
     hi = std::max(hi, s);
     c += x.col(i);
@@ -95,7 +99,7 @@ void length_and_radius(const msd::Points& x, const MuscleShape& m, double& lengt
   double r2 = 0.0;
   for (int i : m.nodes) {
     const msd::Vec3 d = msd::Vec3(x.col(i)) - c;
-    r2 += (d - d.dot(m.line) * m.line).squaredNorm();
+    r2 += (d - d.dot(line) * line).squaredNorm();
   }
   length = hi - lo;
   radius = std::sqrt(r2 / static_cast<double>(m.nodes.size()));
@@ -180,7 +184,8 @@ void observe(const Instruments& in, const msd::LegState& state, const msd::LegSc
     f.length_ratio[k] = f.radius_ratio[k] = 1.0;
     const MuscleShape& m = in.muscles[k];
     if (m.nodes.empty()) continue;
-    length_and_radius(x, m, f.length_ratio[k], f.radius_ratio[k]);
+    const msd::Vec3 line = femur_direction(state, m.line);  // the line turns with a scripted femur
+    length_and_radius(x, m, f.length_ratio[k], f.radius_ratio[k], &line);
     f.length_ratio[k] /= m.rest_length;
     f.radius_ratio[k] /= m.rest_radius;
   }

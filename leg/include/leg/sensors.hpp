@@ -26,9 +26,11 @@ struct MuscleShape {
   double rest_length = 0.0, rest_radius = 0.0;
 };
 
-/// Extent of the nodes along `line` and their RMS distance from the line
-/// through their centroid (m).
-void length_and_radius(const msd::Points& x, const MuscleShape& m, double& length, double& radius);
+/// Extent of the nodes along `line` (or `line_now`, the line turned with a
+/// scripted femur) and their RMS distance from the line through their
+/// centroid (m).
+void length_and_radius(const msd::Points& x, const MuscleShape& m, double& length, double& radius,
+                       const msd::Vec3* line_now = nullptr);
 
 /// Sum of the signed volumes of the tets labelled `r` (m^3).
 double region_volume(const msd::Points& x, const std::vector<msd::Tet>& tets, const std::vector<int>& region, int r);

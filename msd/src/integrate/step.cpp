@@ -76,6 +76,10 @@ void apply_group_constraints(const Model& model, const Controls& controls, const
                              Points& x, Points& v) {
   for (size_t g = 0; g < model.groups.size(); ++g) {
     const KinematicGroup& grp = model.groups[g];
+    const RigidMotion* own = group_motion(controls, static_cast<int>(g));
+    if (own && (grp.joint >= 0 || !(grp.axes[0] && grp.axes[1] && grp.axes[2])))
+      throw Error("controls: group '" + grp.name + "' is given a rigid motion but " +
+                  (grp.joint >= 0 ? "its joint turns it" : "it leaves an axis free"));
     if (grp.joint >= 0) {
       place_attached(model.joints[static_cast<size_t>(grp.joint)].hinge, joints[static_cast<size_t>(grp.joint)],
                      model.rest_positions, grp.nodes, x, v);
@@ -88,7 +92,7 @@ void apply_group_constraints(const Model& model, const Controls& controls, const
         }
       continue;
     }
-    if (const RigidMotion* m = group_motion(controls, static_cast<int>(g))) {
+    if (const RigidMotion* m = own) {
       for (int n : grp.nodes) {
         x.col(n) = m->place(model.rest_positions.col(n));
         v.col(n) = m->velocity_at(x.col(n));

@@ -397,6 +397,45 @@ TEST(Step, ARigidMotionPlacesItsGroupAndCarriesTheAnchorsOnIt) {
   EXPECT_LT((msd::group_point(m, 1, X, s.x, s.joints, c) - p.place(X)).norm(), 1e-14);
 }
 
+TEST(Step, AHingeTurnedAboutItsOwnAxisByItsParentKeepsItsBodyStillInSpace) {
+  // No gravity, no joint damping: the parent turns about the hinge's own axis
+  // (x, through the centre) with constant angular acceleration alpha. Nothing
+  // exerts a torque on the body about that axis, so it does not turn in space:
+  // relative to the parent theta' = -alpha t (the n . (I_c alpha) term; exact
+  // for semi-implicit Euler's velocity).
+  msd::Model m = hanging_bob(0.0);
+  m.terms &= ~static_cast<unsigned>(msd::kGravity);
+  const double alpha = 3.0;
+  auto turn = [&](double t) {
+    msd::RigidMotion p;
+    p.rotation = Eigen::AngleAxisd(0.5 * alpha * t * t, Vec3::UnitX()).toRotationMatrix();
+    p.angular_velocity = Vec3(alpha * t, 0, 0);
+    p.angular_acceleration = Vec3(alpha, 0, 0);
+    return p;
+  };
+  msd::Scratch scratch;
+  msd::State s;
+  const double theta = settle(m, msd::Integrator::SymplecticEuler, 0.5, turn, scratch, s);
+  EXPECT_NEAR(s.joints[0].velocity, -alpha * s.t, 1e-9 * alpha * s.t);
+  // The body's absolute angle, parent's plus relative, stays at its start (0.1
+  // rad) to the first-order error of the steps in theta.
+  EXPECT_NEAR(0.5 * alpha * s.t * s.t + theta, 0.1, alpha * s.t * 1e-3);
+}
+
+TEST(Step, ARigidMotionOnAJointsGroupOrOnAGroupWithAFreeAxisIsRefused) {
+  msd::Model m = hanging_bob(0.0);
+  msd::State s = msd::rest_state(m);
+  msd::Controls c = still(m);
+  c.group_motion = {std::nullopt, msd::RigidMotion{}};  // the bob's group: its joint turns it
+  EXPECT_THROW(msd::apply_constraints(m, c, s), msd::Error);
+  m.joints.clear();
+  m.groups[1].joint = -1;
+  m.groups[1].axes[2] = false;
+  EXPECT_THROW(msd::apply_constraints(m, c, s), msd::Error);
+  m.groups[1].axes[2] = true;
+  EXPECT_NO_THROW(msd::apply_constraints(m, c, s));
+}
+
 TEST(Step, AHingesParentMustBeAnotherUnjointedGroupPrescribingAllAxes) {
   for (int bad = 0; bad < 3; ++bad) {
     msd::Model m = hanging_bob(0.0);

@@ -304,7 +304,8 @@ struct Controls {
   std::vector<Vec3> group_velocity;
   /// Per group (empty or unset: none): a rigid motion placing the group
   /// instead of its offset and velocity, and carrying the joints whose parent
-  /// it is (Joint::parent).
+  /// it is (Joint::parent). Only for a group that prescribes all three axes
+  /// and has no joint (step refuses others).
   std::vector<std::optional<RigidMotion>> group_motion{};
   /// Rigid motion (translation) of each obstacle from its rest placement, and
   /// its velocity; empty: obstacles at rest.
