@@ -261,7 +261,7 @@ LegRunSummary run_variant(const LegScene& scene, const LegVariant& variant, cons
     for (const msd::Vec3& o : l.controls.obstacle_velocity) v = std::max(v, o.norm());
     if (const auto& f = l.controls.femur) v = std::max(v, f->angular_velocity.norm() * size + f->velocity.norm());
     limits.see_load_speed(v);
-    limits.check(leg.tissue, l.state.tissue);
+    limits.check(leg.tissue, l.state.tissue, l.controls.femur ? &l.state.femur : nullptr);
   };
 
   Recorded recorded;

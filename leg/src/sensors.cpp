@@ -63,6 +63,8 @@ double elastic_energy(const msd::LegModel& leg, const Frame& f) {
   const msd::Points& x = f.state->tissue.x;
   const msd::LegControls& controls = *f.controls;
   double elastic = msd::conservative_energy(leg.tissue, x);
+  for (const msd::Muscle& m : leg.tissue.muscles)  // a Hill muscle's passive element
+    if (m.hill.enabled) elastic += msd::hill_muscle_passive_energy(x, m.units, m.unit_force, m.hill);
   for (size_t si = 0; si < leg.strands.size(); ++si) {
     const msd::LegStrand& s = leg.strands[si];
     const double l0 = si < controls.strand_natural_length.size() ? controls.strand_natural_length[si] : s.natural_length;

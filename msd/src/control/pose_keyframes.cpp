@@ -77,15 +77,11 @@ void PoseKeyframes::add(double time, const Vec3& position, const Eigen::Quaterni
   if (std::abs(norm - 1.0) > 1e-3)
     throw Error(which + "the orientation quaternion has length " + std::to_string(norm) +
                 ", not 1: a rotation is a unit quaternion (w, x, y, z)");
-  Eigen::Quaterniond q = orientation.normalized();
-  // The sign nearest the predecessor's, so the rotation vectors do not jump.
-  if (!rotations_.empty()) {
-    const Eigen::Quaterniond prev(rotation_from_vector(rotations_.back()));
-    if (prev.dot(q) < 0.0) q.coeffs() = -q.coeffs();
-  }
-  Vec3 phi = rotation_vector(q);
-  // Keep phi continuous across the log's branch: of phi and its images
-  // phi - 2 pi phi/|phi|, the one nearest the predecessor.
+  // (q and -q give the same rotation vector: rotation_vector takes the shorter way.)
+  Vec3 phi = rotation_vector(orientation.normalized());
+  // Keep phi continuous across the log's branch: of phi and its image
+  // phi - 2 pi phi/|phi| (the same rotation), the one nearest the predecessor.
+  // (One image: way-points less than a half turn apart, as a hip's are.)
   if (!rotations_.empty() && phi.norm() > 0.0) {
     const Vec3 alt = phi - 2.0 * M_PI * phi.normalized();
     if ((alt - rotations_.back()).norm() < (phi - rotations_.back()).norm()) phi = alt;

@@ -43,11 +43,23 @@ double load_speed(const Controls& controls) {
   return v;
 }
 
-void BlowUpLimits::check(const Model& model, const State& state) const {
+void BlowUpLimits::check(const Model& model, const State& state, const RigidMotion* carried) const {
   Eigen::Index far = 0;
-  const double d = (state.x - model.rest_positions).colwise().norm().maxCoeff(&far);
+  double d = 0.0;
+  if (carried) {
+    for (Eigen::Index i = 0; i < state.x.cols(); ++i) {
+      const double di = (Vec3(state.x.col(i)) - carried->place(model.rest_positions.col(i))).norm();
+      if (di > d) {
+        d = di;
+        far = i;
+      }
+    }
+  } else {
+    d = (state.x - model.rest_positions).colwise().norm().maxCoeff(&far);
+  }
   if (d > max_displacement)
-    throw SimulationFailure("blow-up: node " + std::to_string(far) + " moved " + num(d) + " m from rest, more than the limit " +
+    throw SimulationFailure("blow-up: node " + std::to_string(far) + " moved " + num(d) + " m from " +
+                                (carried ? "its carried rest place" : "rest") + ", more than the limit " +
                                 num(max_displacement) + " m (" + num(d / max_displacement) + " times the limit)",
                             state.t, state.step, -1, static_cast<int>(far));
   if (state.v.cols() == 0) return;

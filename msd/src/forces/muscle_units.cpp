@@ -149,6 +149,20 @@ UnitTension hill_unit_tension(double length, double rate, double rest_length, do
   return t;
 }
 
+double hill_passive_energy(double length, double rest_length, double unit_force, const HillMuscle& h) {
+  const double lo = rest_length / h.rest_fibre_stretch, lt = length / lo;
+  if (lt <= 1.0) return 0.0;
+  const double k = h.passive_shape, e0 = h.passive_strain;
+  return unit_force * lo * ((e0 / k) * std::expm1(k * (lt - 1.0) / e0) - (lt - 1.0)) / std::expm1(k);
+}
+
+double hill_muscle_passive_energy(const Points& x, const std::vector<ContractileUnit>& units, double unit_force,
+                                  const HillMuscle& hill) {
+  double e = 0.0;
+  for (const auto& u : units) e += hill_passive_energy((x.col(u.b) - x.col(u.a)).norm(), u.rest_length, unit_force, hill);
+  return e;
+}
+
 void add_hill_muscle_forces(const Points& x, const Points& v, const std::vector<ContractileUnit>& units,
                             double unit_force, double activation, const HillMuscle& hill, Points& f) {
   for (const auto& u : units) {

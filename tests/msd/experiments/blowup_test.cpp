@@ -56,6 +56,28 @@ TEST(BlowUp, ADisplacementPastTheLimitNamesTheNodeAndTheDistance) {
             std::string::npos) << w;
 }
 
+TEST(BlowUp, ABodyCarriedFarByAScriptedBoneIsMeasuredFromWhereItWasCarried) {
+  // A scripted hip may carry the whole leg far from its rest place: that is
+  // no blow-up; a node 1.95 m from its carried place is.
+  const msd::Model model = testing_support::corner_tet_model();
+  const msd::BlowUpLimits l(model, 0.1, 10.0);  // 1 m
+  msd::RigidMotion carried;
+  carried.rotation = Eigen::AngleAxisd(1.0, msd::Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  carried.offset = msd::Vec3(40.0, -3.0, 7.0);
+  msd::State s = msd::rest_state(model);
+  for (int i = 0; i < 4; ++i) s.x.col(i) = carried.place(model.rest_positions.col(i));
+  s.x(2, 3) += 0.95;
+  EXPECT_NE(failure_of(l, model, s), "");  // from rest: 40 m
+  EXPECT_NO_THROW(l.check(model, s, &carried));
+  s.x(2, 3) += 1.0;
+  try {
+    l.check(model, s, &carried);
+    FAIL() << "1.95 m from its carried place passed";
+  } catch (const msd::SimulationFailure& f) {
+    EXPECT_NE(std::string(f.what()).find("node 3 moved 1.95 m from its carried rest place"), std::string::npos) << f.what();
+  }
+}
+
 TEST(BlowUp, ANodeFasterThanTenReferenceSpeedsOrTooMuchKineticEnergyIsABlowUp) {
   const msd::Model model = testing_support::corner_tet_model();
   const msd::BlowUpLimits l(model, 0.1, 10.0);

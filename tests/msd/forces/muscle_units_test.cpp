@@ -203,6 +203,32 @@ TEST(HillMuscle, ARelaxedUnitPullsOnlyWhenStretchedPastOptimalLength) {
   EXPECT_GT(msd::hill_unit_tension(rest, 0.0, rest, 0.0, F, h).T, 0.0);
 }
 
+TEST(HillMuscle, ThePassiveEnergysDerivativeIsThePassiveTension) {
+  // dE/dl = F_u f_P (central differences), E = 0 up to the optimal length,
+  // and the closed form at 60 % strain: F_u l_o [e0/k (e^k - 1) - e0] / (e^k - 1).
+  msd::HillMuscle h;
+  h.enabled = true;
+  h.rest_fibre_stretch = 1.05;
+  const double rest = 0.012, F = 2.5, lo = rest / 1.05;
+  EXPECT_EQ(msd::hill_passive_energy(0.9 * lo, rest, F, h), 0.0);
+  EXPECT_EQ(msd::hill_passive_energy(lo, rest, F, h), 0.0);
+  for (double lt : {1.02, 1.2, 1.45, 1.7}) {
+    const double l = lt * lo, d = 1e-7 * lo;
+    const double fd = (msd::hill_passive_energy(l + d, rest, F, h) - msd::hill_passive_energy(l - d, rest, F, h)) / (2 * d);
+    const double T = msd::hill_unit_tension(l, 0.0, rest, 0.0, F, h).T;
+    EXPECT_NEAR(fd, T, 1e-6 * (1.0 + T)) << lt;
+  }
+  const double k = h.passive_shape, e0 = h.passive_strain;
+  EXPECT_NEAR(msd::hill_passive_energy(1.6 * lo, rest, F, h), F * lo * (e0 / k * std::expm1(k) - e0) / std::expm1(k),
+              1e-15);
+  // A muscle's: the sum over its units.
+  msd::Points x(3, 3);
+  x << 0, 1.3 * lo, 1.3 * lo + 1.1 * lo, 0, 0, 0, 0, 0, 0;
+  const std::vector<msd::ContractileUnit> units = {{0, 1, rest}, {1, 2, rest}};
+  EXPECT_NEAR(msd::hill_muscle_passive_energy(x, units, F, h),
+              msd::hill_passive_energy(1.3 * lo, rest, F, h) + msd::hill_passive_energy(1.1 * lo, rest, F, h), 1e-15);
+}
+
 TEST(HillMuscle, ACurveThatIsNotACurveIsRefusedNamingItsField) {
   auto refused = [](msd::HillMuscle h, const std::string& field) {
     try {

@@ -8,7 +8,8 @@
 //    zero tangents at the first and last way-points, so the motion starts and
 //    ends at rest, and position, velocity are continuous (C1) everywhere;
 //  - the orientation is the same spline through the rotation vectors
-//    phi_i = log(q_i) (each q_i's sign chosen nearest its predecessor's),
+//    phi_i = log(q_i) (each the image nearest its predecessor's: way-points
+//    less than a half turn apart),
 //    R = exp([phi]); its angular velocity omega = J_l(phi) phi' with the left
 //    Jacobian of SO(3), J_l = I + (1 - cos a)/a^2 [phi] + (a - sin a)/a^3 [phi]^2,
 //    a = |phi| (exact); its angular acceleration by a central difference of

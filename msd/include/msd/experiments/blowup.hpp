@@ -23,6 +23,7 @@
 #pragma once
 
 #include "msd/model/model.hpp"
+#include "msd/skeleton/rigid_motion.hpp"
 
 namespace msd {
 
@@ -45,8 +46,10 @@ struct BlowUpLimits {
   double reference_speed() const { return wave_speed + load_speed + free_fall_speed; }
 
   /// Throws SimulationFailure (time, step, node; the measured value against
-  /// its limit) when `state` breaks a limit.
-  void check(const Model& model, const State& state) const;
+  /// its limit) when `state` breaks a limit. With `carried` (a scripted bone
+  /// carrying the body, e.g. the leg's femur): displacements from the rest
+  /// pose carried by it, x - (R X + d), not from rest.
+  void check(const Model& model, const State& state, const RigidMotion* carried = nullptr) const;
 };
 
 /// The fastest prescribed speed in `controls` (groups and obstacles), m/s.

@@ -115,6 +115,16 @@ struct UnitTension {
 UnitTension hill_unit_tension(double length, double rate, double rest_length, double activation, double unit_force,
                               const HillMuscle& hill);
 
+/// The passive element's stored energy in one unit at `length` (J): the work
+/// of its tension from the optimal length l_o = rest_length / s0,
+/// F_u l_o integral_1^l~ f_P = F_u l_o [(e0/k) expm1(k (l~ - 1)/e0) - (l~ - 1)] / expm1(k)
+/// for l~ > 1, else 0. Its derivative in length is the passive tension F_u f_P.
+double hill_passive_energy(double length, double rest_length, double unit_force, const HillMuscle& hill);
+
+/// The sum of hill_passive_energy over a muscle's units at positions x (3 x N).
+double hill_muscle_passive_energy(const Points& x, const std::vector<ContractileUnit>& units, double unit_force,
+                                  const HillMuscle& hill);
+
 /// Adds each Hill unit's pull T u (u from a to b; a pulled towards b) to f
 /// (3 x N), with x, v the positions and velocities (3 x N). The passive
 /// element pulls at activation 0 too.

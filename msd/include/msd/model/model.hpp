@@ -325,7 +325,7 @@ struct Controls {
 
 /// What a joint did in the last step.
 struct JointReport {
-  double torque = 0.0;          ///< about the axis, N m (all of it)
+  double torque = 0.0;          ///< about the axis, N m (all of it; on a moving parent with its frame's terms)
   double passive_torque = 0.0;  ///< of it, the joint's passive structures
   Vec3 reaction{Vec3::Zero()};  ///< force the fixed side exerts on the turning body at the joint, N
 };

@@ -186,7 +186,7 @@ struct LegScratch {
   Scratch tissue;
   std::vector<double> tendon_tension;  ///< per tendon: the sum over its strands (N)
   std::vector<double> tendon_strain;   ///< per tendon: its strands' largest strain (L - L0) / L0
-  double knee_torque = 0.0;            ///< about the axis, N m (all of it: tissue, tendons, gravity, passive joint, added)
+  double knee_torque = 0.0;            ///< about the axis, N m (all of it: tissue, tendons, gravity, passive joint, added; with a scripted hip also the femur's moving frame's, Joint)
   double passive_joint_torque = 0.0;   ///< of it, the knee's passive structures
   Vec3 joint_reaction{Vec3::Zero()};   ///< force the femur exerts on the lower leg at the hinge, N
   SelfContactReport knee_contact;      ///< skin against skin behind the knee
