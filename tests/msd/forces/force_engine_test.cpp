@@ -311,4 +311,22 @@ TEST(ForceEngine, TheLegsStepAllocatesNothingAfterTheFirst) {
   for (int k = 0; k < 20; ++k) msd::step_leg(leg, s, c, 1e-4, scratch);
   EXPECT_EQ(g_allocations.load() - before, 0);
   EXPECT_GT(scratch.tendon_tension[0], 0.0);
+  // With a scripted hip turning the femur (the controls taken back to each
+  // step's start, the knee on its moving parent): nothing either.
+  msd::RigidMotion hip;
+  hip.angular_velocity = msd::Vec3(0, -1.0, 0);
+  hip.angular_acceleration = msd::Vec3(0, -2.0, 0);
+  auto femur_at = [&](int k) {
+    msd::RigidMotion m = hip;
+    m.rotation = Eigen::AngleAxisd(-1.0 * k * 1e-4, msd::Vec3::UnitY()).toRotationMatrix();
+    return m;
+  };
+  c.femur = femur_at(1);
+  msd::step_leg(leg, s, c, 1e-4, scratch);  // sizes the motion's buffers
+  const long with_hip = g_allocations.load();
+  for (int k = 2; k < 22; ++k) {
+    c.femur = femur_at(k);
+    msd::step_leg(leg, s, c, 1e-4, scratch);
+  }
+  EXPECT_EQ(g_allocations.load() - with_hip, 0);
 }
