@@ -76,6 +76,7 @@ int cmd_leg_geometry(const LegGeometryArgs& args) {
   p.stature = args.stature;
   p.mass = args.mass;
   p.skin_cell = args.skin_cell;
+  p.muscles = args.muscles == "anatomical" ? msd::MuscleShape::Anatomical : msd::MuscleShape::Thesis;
   const msd::LegGeometry leg = msd::make_leg(p);
   const double spacing = args.spacing > 0.0 ? args.spacing : kDefaultLegSpacing * p.stature / p.dims.reference_stature;
   const std::string out = args.out.empty() ? std::string(TISSUEBENCH_DATA_DIR) + "/leg" : args.out;
@@ -91,6 +92,10 @@ int cmd_leg_geometry(const LegGeometryArgs& args) {
   for (const auto& [name, m] : surfaces)
     std::printf("  %-13s %6d triangles %6d vertices  %7.3f L\n", name, m->num_triangles(), m->num_vertices(),
                 1e3 * msd::enclosed_volume(*m));
+  std::printf("  muscles (%s): quadriceps %.0f cm3 and hamstrings %.0f cm3 for this body (Handsfield et al. 2014), "
+              "PCSA %.0f and %.0f cm2 (Ward et al. 2009 fibre lengths)\n",
+              args.muscles.c_str(), 1e6 * leg.front_target_volume, 1e6 * leg.back_target_volume, 1e4 * leg.front_pcsa,
+              1e4 * leg.back_pcsa);
   std::printf("  tendons: %zu paths; grid spacing in the scene %.4f m; %.2f s\n", leg.tendons.size(), spacing, seconds);
   std::printf("written: %s/{skin,upper_bone,lower_bone,front_muscle,back_muscle}.obj, leg.yaml\n", out.c_str());
   return 0;
@@ -197,6 +202,13 @@ void add_leg_commands(CLI::App& cli, LegCommands& c) {
   c.geometry_cmd->add_option("--skin-cell", c.geometry.skin_cell,
                                "Skin resolution: marching-tetrahedra cell (m); inner surfaces use half")
       ->check(app::finite_positive("m"))
+      ->capture_default_str();
+  c.geometry_cmd
+      ->add_option("--muscles", c.geometry.muscles,
+                   "Muscle shapes: thesis (the thesis' spindles) or anatomical (the thigh's muscle compartment "
+                   "split into quadriceps and hamstrings sized to Handsfield et al. 2014's volumes for this "
+                   "stature and mass)")
+      ->check(CLI::IsMember({"thesis", "anatomical"}))
       ->capture_default_str();
   c.geometry_cmd->add_option("--out", c.geometry.out, "Output folder; default: msd/data/leg (the shipped files)");
   c.view_cmd = cli.add_subcommand(

@@ -36,6 +36,7 @@ struct LegGeometryArgs {
   double stature = 1.756, mass = 85.5;  ///< m, kg (the ANSUR II male mean)
   double spacing = 0.0;                ///< the scene's grid spacing (m); 0: the default scaled by stature
   double skin_cell = 0.016;            ///< the skin's marching-tetrahedra cell (m)
+  std::string muscles = "thesis";      ///< thesis | anatomical (msd::MuscleShape)
   std::string out;                     ///< "" = msd/data/leg (regenerates the shipped files)
 };
 /// Writes the parametric leg's surfaces and its mesh scene (tissuebench leg-geometry).

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <sstream>
 
@@ -227,6 +228,23 @@ ScalarField femur_field(const LegDimensions& d, const LegFrame& f, const BoneLay
   };
 }
 
+// What the quadriceps wrap: the femur's shaft and condyles with 4 mm around
+// them (not its head: the wedge of muscle between the head and the cut folded
+// the meshed surface, so there erosion separates them, regions.hpp), the shaft swept
+// backwards 10 cm in the sagittal plane (the linea aspera and the septum
+// behind it, where the vasti meet the hamstrings' compartment). An exact
+// distance to a rounded rectangle. Without the sweep, the cut of the front
+// compartment passed 3 mm behind the shaft and the thin wedge between them
+// folded the meshed surface.
+ScalarField femur_keep_out_field(const LegDimensions& d, const LegFrame& f, const BoneLayout& b) {
+  return [femur = femur_field(d, f, b), f, b](const Vec3& x) {
+    const double z0 = f.z_knee + 0.06 * f.ls, z1 = f.z_top - 0.07 * f.ls;
+    const Vec3 q(std::clamp(x.x(), -0.10 * f.gs, 0.0), 0.0, std::clamp(x.z(), z0, z1));
+    const double slot = (x - q).norm() - b.rf;
+    return (x.z() < f.z_knee + 0.5 * f.T ? std::min(slot, femur(x)) : slot) - 0.004;
+  };
+}
+
 // The lower bone: tibia, fibula, the foot's talus and metatarsals, and the
 // knee cap.
 ScalarField lower_bone_field(const LegDimensions& d, const LegFrame& f, const BoneLayout& b) {
@@ -287,6 +305,136 @@ double muscle_x(const ThighSections& section, const Spindle& m, double z) {
   return cx + m.u * a;
 }
 
+// ---- Anatomical muscles: the compartment split front and back. ----------
+// The thigh's muscle compartment at height z is the skin's section scaled by
+// k (LegDimensions::compartment_scale), tapered along the thigh like an
+// ellipsoid between z_lo and z_hi: semi-axes (A s, B s) with A = k a,
+// B = k b, s = sqrt(1 - zeta^2), zeta = (z - z_mid) / half-length. A group
+// takes the part of it on its side (side = +1 front, -1 back) beyond a plane
+// at the fraction t of the untapered AP semi-axis: side (x - cx) >= t A.
+// That part's area is A B s^2 g(t / s), with g(u) = acos(u) - u sqrt(1 - u^2)
+// the area of a unit circle's segment (g = pi for u <= -1, 0 for u >= 1), so
+// the volume V(t) = integral of A B s^2 g(t / s) dz falls monotonically with
+// t, and t is found by bisection. A group ends where s = max(t, s_end) (a cap
+// of the ellipsoid or a flat end, blended; s_end = 0.35), not in a needle: a
+// needle's tip beside the femur's condyles folded the meshed surface.
+struct Compartment {
+  int side;
+  double k, t, z_lo, z_hi;
+};
+
+constexpr double kEndTaper = 0.35;  // s_end
+
+double segment_area(double u) {
+  u = std::clamp(u, -1.0, 1.0);
+  return std::acos(u) - u * std::sqrt(1.0 - u * u);
+}
+
+double compartment_taper(const Compartment& c, double z) {
+  const double zeta = (z - 0.5 * (c.z_lo + c.z_hi)) / (0.5 * (c.z_hi - c.z_lo));
+  return std::sqrt(std::max(0.0, 1.0 - zeta * zeta));
+}
+
+// V(t) (m^3) by Simpson's rule on 400 intervals.
+double compartment_volume(const ThighSections& section, const Compartment& c) {
+  const int n = 400;
+  const double h = (c.z_hi - c.z_lo) / n;
+  double sum = 0.0;
+  for (int i = 1; i < n; ++i) {  // s = 0 at both ends
+    double cx, a, b;
+    const double z = c.z_lo + i * h, s = compartment_taper(c, z);
+    if (s < kEndTaper) continue;
+    section(z, cx, a, b);
+    sum += (i % 2 ? 4.0 : 2.0) * c.k * c.k * a * b * s * s * segment_area(c.t / s);
+  }
+  return sum * h / 3.0;
+}
+
+// The plane t that gives the group `volume` (m^3); throws when the
+// compartment cannot hold it.
+Compartment size_compartment(const ThighSections& section, Compartment c, double volume, const std::string& group,
+                             const LegParameters& p) {
+  c.t = -1.0;
+  const double whole = compartment_volume(section, c);
+  if (!(volume > 0.0) || volume >= 0.95 * whole) {
+    std::ostringstream m;
+    m << "leg (stature " << p.stature << " m, mass " << p.mass << " kg): the " << group << " (" << 1e6 * volume
+      << " cm^3) do not fit in the thigh's muscle compartment (" << 1e6 * whole << " cm^3)";
+    throw Error(m.str());
+  }
+  double lo = -1.0, hi = 1.0;
+  for (int i = 0; i < 60; ++i) {
+    c.t = 0.5 * (lo + hi);
+    (compartment_volume(section, c) > volume ? lo : hi) = c.t;
+  }
+  c.t = 0.5 * (lo + hi);
+  return c;
+}
+
+// The group's field: the tapered compartment, the plane and the flat ends,
+// blended over 1 cm, less `keep_out` (when given) blended over 5 mm: the
+// quadriceps wrap the femur (a muscle overlapping the bone would, on a fine
+// grid, erode the shaft away, regions.hpp).
+ScalarField compartment_field(const ThighSections& section, const Compartment& c, const ScalarField* keep_out) {
+  return [&section, c, keep_out](const Vec3& x) {
+    double cx, a, b;
+    section(x.z(), cx, a, b);
+    const double A = c.k * a, B = c.k * b;
+    const double zeta = (x.z() - 0.5 * (c.z_lo + c.z_hi)) / (0.5 * (c.z_hi - c.z_lo));
+    const double ellipsoid = (std::sqrt(std::pow((x.x() - cx) / A, 2) + std::pow(x.y() / B, 2) + zeta * zeta) - 1.0) *
+                             std::min(A, B);
+    const double plane = c.t * A - c.side * (x.x() - cx);
+    const double ends = (std::abs(zeta) - std::sqrt(1.0 - kEndTaper * kEndTaper)) * 0.5 * (c.z_hi - c.z_lo);
+    const double v = smooth_max(smooth_max(ellipsoid, plane, 0.01), ends, 0.01);
+    return keep_out ? smooth_max(v, -(*keep_out)(x), 0.005) : v;
+  };
+}
+
+// The group's ends: where the taper s reaches max(t, s_end).
+std::pair<double, double> compartment_ends(const Compartment& c) {
+  const double zc = 0.5 * (c.z_lo + c.z_hi), hz = 0.5 * (c.z_hi - c.z_lo);
+  const double s_end = std::max(c.t, kEndTaper), zeta = std::sqrt(1.0 - s_end * s_end);
+  return {zc - zeta * hz, zc + zeta * hz};
+}
+
+// The group's centre line at height z: halfway between its inner bound - the
+// plane, or `inner` (a distance from the femur's axis on the group's side)
+// when that lies further out - and the compartment's edge on its side.
+double compartment_x(const ThighSections& section, const Compartment& c, double inner, double z) {
+  double cx, a, b;
+  section(z, cx, a, b);
+  const double from = std::max(c.side * cx + c.t * c.k * a, inner), to = c.side * cx + compartment_taper(c, z) * c.k * a;
+  return c.side * 0.5 * (from + to);
+}
+
+// A muscle's surface field and centre line, whichever shape.
+struct MuscleBody {
+  TriangleMesh surface;
+  std::function<double(double)> centre_x;
+  double z_lower_tendon, z_upper_tendon;  // where the tendons leave it
+};
+
+// Sizes and meshes an anatomical group. The blend of the plane rounds the
+// crease and takes a little volume, so the sharp shape's target is corrected
+// twice by the ratio of the wanted volume to the one the surface encloses.
+// Raw marching tetrahedra, without relaxation: relaxing folded the surface
+// where the blends meet (the cut, the flat ends, the femur) on several
+// bodies, and an isosurface of the piecewise-linear field cannot cross itself.
+std::pair<Compartment, TriangleMesh> mesh_compartment(const ThighSections& section, Compartment c, double volume,
+                                                      const std::string& group, const LegParameters& p,
+                                                      const ScalarField* keep_out, ImplicitMeshOptions o) {
+  o.relax_iterations = 0;
+  double target = volume;
+  c = size_compartment(section, c, target, group, p);
+  TriangleMesh m = mesh_implicit_surface(compartment_field(section, c, keep_out), o);
+  for (int i = 0; i < 2; ++i) {
+    target *= volume / enclosed_volume(m);
+    c = size_compartment(section, c, target, group, p);
+    m = mesh_implicit_surface(compartment_field(section, c, keep_out), o);
+  }
+  return {c, std::move(m)};
+}
+
 // ---- Surfaces. -------------------------------------------------------------
 
 // The box the surfaces are meshed in, with the skin's cell size.
@@ -314,9 +462,9 @@ ImplicitMeshOptions surface_box(const LegParameters& p, const LegFrame& f) {
 // the tibia, the tendon wrapped over the front of the knee through the
 // flesh, and in a flexed knee its pull dragged that flesh through the
 // femur's condyles (the leg blew up at 70-90 degrees, issue 6, measured).
-std::vector<TendonPathSpec> leg_tendons(const LegFrame& f, const ThighSections& section, const Spindle& front,
-                                        const Spindle& back, const Vec3& patella_centre) {
-  const double ls = f.ls, gs = f.gs, z_knee = f.z_knee, z_top = f.z_top, T = f.T;
+std::vector<TendonPathSpec> leg_tendons(const LegFrame& f, const MuscleBody& front, const MuscleBody& back,
+                                        const Vec3& patella_centre) {
+  const double ls = f.ls, gs = f.gs, z_knee = f.z_knee, z_top = f.z_top;
   auto tendon = [](const char* name, int muscle, int bone, int strands, std::vector<Vec3> path) {
     TendonPathSpec t;
     t.name = name;
@@ -326,18 +474,59 @@ std::vector<TendonPathSpec> leg_tendons(const LegFrame& f, const ThighSections& 
     t.path = std::move(path);
     return t;
   };
-  auto mx = [&](const Spindle& m, double z) { return muscle_x(section, m, z); };
+  auto mx = [](const MuscleBody& m, double z) { return m.centre_x(z); };
   return {
       tendon("back_upper", kBackMuscle, kUpperBone, 8,
-             {Vec3(mx(back, z_knee + 0.84 * T), 0, z_knee + 0.84 * T), Vec3(-0.012 * ls, 0, z_top - 0.06 * ls)}),
+             {Vec3(mx(back, back.z_upper_tendon), 0, back.z_upper_tendon), Vec3(-0.012 * ls, 0, z_top - 0.06 * ls)}),
       tendon("back_lower", kBackMuscle, kLowerBone, 6,
-             {Vec3(mx(back, z_knee + 0.16 * T), 0, z_knee + 0.16 * T), Vec3(-0.033 * gs, 0, z_knee),
+             {Vec3(mx(back, back.z_lower_tendon), 0, back.z_lower_tendon), Vec3(-0.033 * gs, 0, z_knee),
               Vec3(-0.008 * ls, 0, z_knee - 0.05 * ls)}),
       tendon("front_upper", kFrontMuscle, kUpperBone, 6,
-             {Vec3(mx(front, z_knee + 0.88 * T), 0, z_knee + 0.88 * T), Vec3(0.012 * ls, 0, z_top - 0.07 * ls)}),
+             {Vec3(mx(front, front.z_upper_tendon), 0, front.z_upper_tendon), Vec3(0.012 * ls, 0, z_top - 0.07 * ls)}),
       tendon("front_lower", kFrontMuscle, kLowerBone, 6,
-             {Vec3(mx(front, z_knee + 0.18 * T), 0, z_knee + 0.18 * T), patella_centre}),
+             {Vec3(mx(front, front.z_lower_tendon), 0, front.z_lower_tendon), patella_centre}),
   };
+}
+
+// The two muscles of the chosen shape. Anatomical: the quadriceps from 12 % to
+// 94 % of the thigh's length above the knee, the hamstrings from 12 % to 90 %
+// (modelling choices: the vasti end a hand's breadth above the knee cap, the
+// hamstrings' heads start at the ischial tuberosity below the hip joint), the
+// two cuts kept at least 0.1 of the compartment's half-depth apart.
+std::pair<MuscleBody, MuscleBody> muscle_bodies(const LegParameters& p, const LegFrame& f,
+                                                const ThighSections& section, const LegGeometry& leg,
+                                                const BoneLayout& bones, const ImplicitMeshOptions& o) {
+  const ScalarField femur = femur_keep_out_field(p.dims, f, bones);
+  const double zk = f.z_knee, T = f.T;
+  if (p.muscles == MuscleShape::Thesis) {
+    const Spindle front = front_spindle(f), back = back_spindle(f);
+    return {{mesh_implicit_surface(spindle_field(section, front), o),
+             [&section, front](double z) { return muscle_x(section, front, z); }, zk + 0.18 * T, zk + 0.88 * T},
+            {mesh_implicit_surface(spindle_field(section, back), o),
+             [&section, back](double z) { return muscle_x(section, back, z); }, zk + 0.16 * T, zk + 0.84 * T}};
+  }
+  const double k = p.dims.compartment_scale;
+  auto [front, front_surface] = mesh_compartment(section, {+1, k, 0.0, zk + 0.10 * T, zk + 0.96 * T},
+                                                 leg.front_target_volume, "quadriceps", p, &femur, o);
+  auto [back, back_surface] = mesh_compartment(section, {-1, k, 0.0, zk + 0.04 * T, zk + 0.98 * T},
+                                               leg.back_target_volume, "hamstrings", p, nullptr, o);
+  if (front.t + back.t < 0.0) {
+    std::ostringstream m;
+    m << "leg (stature " << p.stature << " m, mass " << p.mass << " kg): the quadriceps and hamstrings ("
+      << 1e6 * leg.front_target_volume << " and " << 1e6 * leg.back_target_volume
+      << " cm^3) overlap in the thigh's muscle compartment";
+    throw Error(m.str());
+  }
+  const auto [front_lo, front_hi] = compartment_ends(front);
+  const auto [back_lo, back_hi] = compartment_ends(back);
+  const double inset = 0.10 * T;  // the tendons leave 10 % of the thigh's length inside the muscle's ends
+  const double clear = bones.rf + 0.009;  // the keep-out's radius and its blend: the quadriceps lie beyond
+  return {{std::move(front_surface),
+           [&section, front = front, clear](double z) { return compartment_x(section, front, clear, z); },
+           front_lo + inset, front_hi - inset},
+          {std::move(back_surface),
+           [&section, back = back](double z) { return compartment_x(section, back, -1.0, z); },
+           back_lo + inset, back_hi - inset}};
 }
 
 // The surfaces checked as a limb (validate_limb), named after this body.
@@ -357,6 +546,30 @@ void validate_leg(const LegGeometry& leg, const LegParameters& p) {
 
 }  // namespace
 
+double group_volume(const MuscleGroupAnatomy& group, double h, double m) {
+  double v = 0.0;
+  for (const MuscleAnatomy& mu : group.muscles) {
+    const double vi = mu.slope * h * m + mu.intercept;
+    if (!std::isfinite(vi) || vi <= 0.0 || !std::isfinite(mu.fibre_length) || mu.fibre_length <= 0.0) {
+      std::ostringstream msg;
+      msg << "leg: " << group.name << ": " << mu.name << ": volume " << vi << " cm^3 (slope " << mu.slope
+          << ", intercept " << mu.intercept << ") and fibre length " << mu.fibre_length
+          << " m must both be positive";
+      throw Error(msg.str());
+    }
+    v += 1e-6 * vi;
+  }
+  if (group.muscles.empty()) throw Error("leg: " + group.name + ": no muscles");
+  return v;
+}
+
+double group_pcsa(const MuscleGroupAnatomy& group, double h, double m) {
+  group_volume(group, h, m);  // checks every muscle
+  double a = 0.0;
+  for (const MuscleAnatomy& mu : group.muscles) a += 1e-6 * (mu.slope * h * m + mu.intercept) / mu.fibre_length;
+  return a;
+}
+
 LegGeometry make_leg(const LegParameters& p) {
   require_range(p.stature, 1.2, 2.3, "stature (m)");
   require_range(p.mass, 30.0, 200.0, "mass (kg)");
@@ -374,17 +587,21 @@ LegGeometry make_leg(const LegParameters& p) {
 
   const ThighSections section(d, f);
   const BoneLayout bones = place_bones(p, f, section);
-  const Spindle front = front_spindle(f), back = back_spindle(f);
+  leg.front_target_volume = group_volume(d.quadriceps, p.stature, p.mass);
+  leg.back_target_volume = group_volume(d.hamstrings, p.stature, p.mass);
+  leg.front_pcsa = group_pcsa(d.quadriceps, p.stature, p.mass);
+  leg.back_pcsa = group_pcsa(d.hamstrings, p.stature, p.mass);
 
   ImplicitMeshOptions o = surface_box(p, f);
   leg.skin = mesh_implicit_surface(skin_field(f, section), o);
   o.cell = 0.5 * p.skin_cell;
   leg.upper_bone = mesh_implicit_surface(femur_field(d, f, bones), o);
   leg.lower_bone = mesh_implicit_surface(lower_bone_field(d, f, bones), o);
-  leg.front_muscle = mesh_implicit_surface(spindle_field(section, front), o);
-  leg.back_muscle = mesh_implicit_surface(spindle_field(section, back), o);
+  auto [front, back] = muscle_bodies(p, f, section, leg, bones, o);
+  leg.front_muscle = std::move(front.surface);
+  leg.back_muscle = std::move(back.surface);
 
-  leg.tendons = leg_tendons(f, section, front, back, bones.patella_centre);
+  leg.tendons = leg_tendons(f, front, back, bones.patella_centre);
   validate_leg(leg, p);
   return leg;
 }
@@ -418,7 +635,7 @@ void write_leg(const LegGeometry& leg, const LegParameters& p, double spacing, c
   std::ostringstream y;
   y << std::setprecision(6);
   y << "# Generated by `tissuebench leg-geometry --stature " << p.stature << " --mass " << p.mass
-    << "` (msd/geometry/leg_generator.hpp);\n# dimensions and sources: docs/leg-geometry.md. "
+    << (p.muscles == MuscleShape::Anatomical ? " --muscles anatomical" : "") << "` (msd/geometry/leg_generator.hpp);\n# dimensions and sources: docs/leg-geometry.md. "
     << "Mesh it: tissuebench mesh THIS_FILE --out DIR\n";
   y << "name: leg\n";
   y << "description: parametric leg, stature " << p.stature << " m, mass " << p.mass << " kg; knee centre [0, 0, "

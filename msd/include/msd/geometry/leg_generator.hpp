@@ -24,6 +24,31 @@
 
 namespace msd {
 
+/// One muscle of a group: its MRI volume regressed on height x mass
+/// (Handsfield et al. 2014, J Biomech 47:631-638, supplementary table 3:
+/// V = slope (h m) + intercept, cm^3 with h in m and m in kg) and its optimal
+/// fibre length (Ward et al. 2009, Clin Orthop Relat Res 467:1074-1082,
+/// table 3, cadavers). PCSA = V / fibre length.
+struct MuscleAnatomy {
+  std::string name;
+  double slope = 0.0;         ///< cm^3 per (m kg)
+  double intercept = 0.0;     ///< cm^3
+  double fibre_length = 0.0;  ///< m
+};
+
+/// A muscle group the parametric leg meshes as one region.
+struct MuscleGroupAnatomy {
+  std::string name;
+  std::vector<MuscleAnatomy> muscles;
+};
+
+/// The group's volume (m^3) for a body of stature `h` (m) and mass `m` (kg):
+/// the sum of its muscles' regressions. Throws msd::Error naming the group and
+/// muscle when a muscle's volume or fibre length is not positive.
+double group_volume(const MuscleGroupAnatomy& group, double h, double m);
+/// The group's physiological cross-section (m^2): sum of V_i / l_i.
+double group_pcsa(const MuscleGroupAnatomy& group, double h, double m);
+
 /// The reference body and its leg: the mean US Army male of ANSUR II (2012)
 /// unless noted; every number's source is in docs/leg-geometry.md. Lengths in
 /// m at the reference stature; `*_girth` are circumferences (m); `*_frac` are
@@ -54,7 +79,33 @@ struct LegDimensions {
   double patella_height = 0.0344;            ///< Iranpour et al., Caucasians
   double patella_width = 0.0448;
   double patella_thickness = 0.0224;
+  // Muscle groups (the anatomical muscles, MuscleShape::Anatomical).
+  MuscleGroupAnatomy quadriceps{"quadriceps",
+                                {{"rectus femoris", 1.71, 56.9, 0.076},
+                                 {"vastus lateralis", 5.89, 102.0, 0.099},
+                                 {"vastus medialis", 3.03, 57.6, 0.097},
+                                 {"vastus intermedius", 1.29, 111.0, 0.099}}};
+  MuscleGroupAnatomy hamstrings{"hamstrings",
+                                {{"biceps femoris, long head", 1.24, 53.0, 0.098},
+                                 {"biceps femoris, short head", 0.738, 8.64, 0.110},
+                                 {"semitendinosus", 1.27, 29.1, 0.193},
+                                 {"semimembranosus", 1.54, 54.5, 0.069}}};
+  /// The thigh's muscle compartment: the skin's section scaled by this about
+  /// the section's centre (the rest is subcutaneous fat and skin). No source
+  /// found: a modelling choice (about 1 cm of fat at mid-thigh).
+  double compartment_scale = 0.90;
 };
+
+/// The two muscles' shapes. Thesis: the thesis' "loosely based" spindles (a
+/// quadriceps of about 740 cm^3 and hamstrings of about 780 cm^3 at the
+/// reference body). Anatomical: the thigh's muscle compartment (the skin's
+/// sections scaled by `compartment_scale`, tapered to both ends) split by two
+/// planes into a front and a back part, each sized to its group's published
+/// volume for this stature and mass (LegDimensions::quadriceps, hamstrings);
+/// the quadriceps wrap the femur's shaft and condyles (4 mm clear) and the
+/// septum behind the shaft. make_leg throws, naming the body, when the groups
+/// do not fit in the compartment or their planes cross.
+enum class MuscleShape { Thesis, Anatomical };
 
 struct LegParameters {
   double stature = 1.756;  ///< H (m)
@@ -64,6 +115,7 @@ struct LegParameters {
   /// it. 0.016 m gives about 15.7k skin triangles at the reference size, like
   /// the thesis' scan (15,338 triangles, about 1.2 cm).
   double skin_cell = 0.016;
+  MuscleShape muscles = MuscleShape::Thesis;
 };
 
 struct LegGeometry {
@@ -75,6 +127,10 @@ struct LegGeometry {
   Vec3 knee_axis{Vec3::UnitY()};
   double hip_height = 0.0, knee_height = 0.0, ankle_height = 0.0, foot_length = 0.0;
   double girth_scale = 1.0;  ///< sqrt((M / M0) / (H / H0))
+  /// The muscle groups' published volumes and cross-sections for this body
+  /// (group_volume, group_pcsa), m^3 and m^2, whatever the shape.
+  double front_target_volume = 0.0, back_target_volume = 0.0;
+  double front_pcsa = 0.0, back_pcsa = 0.0;
 };
 
 /// Builds the leg. Throws msd::Error naming the parameter for a stature outside
