@@ -247,9 +247,14 @@ void read_tendons(const Fields& t, LegScene& s) {
 
 void read_muscles(const Fields& m, const std::string& path, LegScene& s) {
   m.only({"max_stress", "force_length_zero", "unit_angle_deg", "front_line", "back_line", "script", "activation", "law",
-          "hill", "activation_time", "deactivation_time"});
+          "hill", "activation_time", "deactivation_time", "pcsa"});
   msd::LegModelOptions& o = s.model;
   o.max_muscle_stress = number(m, "muscles.max_stress");
+  if (const auto a = m.optional_section("pcsa")) {
+    a->only({"front", "back"});
+    if (a->has("front")) o.front_pcsa = number(*a, "muscles.pcsa.front");
+    if (a->has("back")) o.back_pcsa = number(*a, "muscles.pcsa.back");
+  }
   o.hill.enabled = tbio::read_choice(m, leg_scene_parameter("muscles.law")) == "hill";
   if (const auto h = m.optional_section("hill")) {
     if (!o.hill.enabled) throw msd::Error(m.where("hill") + "only meaningful with 'law: hill'");

@@ -80,6 +80,8 @@ std::vector<Parameter> declare() {
       number("tendons.pretension.start", "s", 0.0, non_negative, "when the pre-tension ramp starts"),
       number("tendons.pretension.duration", "s", 0.0, non_negative, "the ramp's length (0: a step)"),
       number("muscles.max_stress", "Pa", model.max_muscle_stress, positive, "maximum isometric stress (with law: hill, the specific tension: F_max = it x the cross-section)"),
+      optional_number("muscles.pcsa.front", "m^2", positive, "F_max = max_stress x this cross-section (the published PCSA: docs/leg-geometry.md, 225 cm^2 for this leg's quadriceps) instead of the mesh's section"),
+      optional_number("muscles.pcsa.back", "m^2", positive, "the same for the back muscle (the hamstrings: 88 cm^2)"),
       choice("muscles.law", {"thesis", "hill"}, "thesis", "thesis: units pull with activation x F (times force_length_zero's limb); hill: Zajac 1989's Hill-type law (msd/forces/muscle_units.hpp)"),
       number("muscles.hill.rest_fibre_stretch", "1", model.hill.rest_fibre_stretch, positive, "the fibres' length in the mesh's posture over their optimal length"),
       number("muscles.hill.active_width", "1", model.hill.active_width, Range::open(0, 1), "the active force-length curve is zero at 1 +- this (Zajac 1989: 0.5)"),

@@ -317,6 +317,17 @@ TEST(LegScene, TheHillLawRealTendonsAndActivationDynamicsAreReadAndMisuseIsRefus
   refused(hill(bdf2, "muscles:\n  max_stress: 2.5e5\n  activation_time: -0.01\n", "negative_tau"), "activation_time");
   refused(variant_of("hamstrings", "strand_area: 2.0e-5", "strand_area: 2.0e-5\n  toe_strain: 0.3", dir + "/toe_big.yaml"),
           "toe_strain");
+  // F_max from a published cross-section (either muscle, or both); not positive or unknown: refused.
+  s = leg::read_leg_scene(hill(bdf2, "muscles:\n  max_stress: 2.7e5\n  pcsa: {front: 0.0225, back: 0.0088}\n", "pcsa"));
+  ASSERT_TRUE(s.model.front_pcsa && s.model.back_pcsa);
+  EXPECT_DOUBLE_EQ(*s.model.front_pcsa, 0.0225);
+  EXPECT_DOUBLE_EQ(*s.model.back_pcsa, 0.0088);
+  s = leg::read_leg_scene(hill(bdf2, "muscles:\n  max_stress: 2.7e5\n  pcsa: {back: 0.0088}\n", "pcsa_back"));
+  EXPECT_FALSE(s.model.front_pcsa.has_value());
+  EXPECT_FALSE(leg::read_leg_scene(scenes() + "hamstrings.yaml").model.back_pcsa.has_value());  // the mesh's section
+  refused(hill(bdf2, "muscles:\n  max_stress: 2.7e5\n  pcsa: {front: 0}\n", "pcsa_zero"), "muscles.pcsa.front");
+  refused(hill(bdf2, "muscles:\n  max_stress: 2.7e5\n  pcsa: {back: -0.01}\n", "pcsa_negative"), "muscles.pcsa.back");
+  refused(hill(bdf2, "muscles:\n  max_stress: 2.7e5\n  pcsa: {quadriceps: 0.02}\n", "pcsa_name"), "quadriceps");
 }
 
 TEST(LegScene, AScriptedHipIsReadAndKeyframesOutOfOrderOrNotARotationAreRefused) {

@@ -1,6 +1,7 @@
 #include "msd/forces/muscle_units.hpp"
 
 #include <cmath>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <string>
@@ -38,6 +39,24 @@ double unit_force(const TetMesh& mesh, int region, const std::vector<Contractile
     if (mesh.region[e] == region) volume += tet_signed_volume(mesh.nodes, mesh.tets[e]);
   for (const auto& u : units) lambda += std::abs((mesh.nodes.col(u.b) - mesh.nodes.col(u.a)).dot(d));
   return activation * max_stress * volume / lambda;
+}
+
+double unit_force_for_area(const TetMesh& mesh, int region, const std::vector<ContractileUnit>& units,
+                           const Vec3& direction, double activation, double max_stress, double area) {
+  if (!(area > 0.0) || !std::isfinite(area))
+    throw Error("muscle: the cross-section " + std::to_string(area) + " m^2 must be positive");
+  if (units.empty()) return 0.0;
+  const Vec3 d = direction.normalized();
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo, lambda = 0.0;
+  for (size_t e = 0; e < mesh.tets.size(); ++e)
+    if (mesh.region[e] == region)
+      for (int n : mesh.tets[e]) {
+        const double s = mesh.nodes.col(n).dot(d);
+        lo = std::min(lo, s);
+        hi = std::max(hi, s);
+      }
+  for (const auto& u : units) lambda += std::abs((mesh.nodes.col(u.b) - mesh.nodes.col(u.a)).dot(d));
+  return activation * max_stress * area * (hi - lo) / lambda;
 }
 
 double force_length_factor(double stretch, double zero_at) {

@@ -237,8 +237,13 @@ void build_obstacles(const LimbMesh& m, const std::vector<Tri>& skin, const LegM
 void build_muscles(const LimbMesh& m, const LegModelOptions& o, LegModel& leg) {
   leg.front_units = contractile_units(m.mesh, kFrontMuscle, o.front_line, o.unit_angle_deg);
   leg.back_units = contractile_units(m.mesh, kBackMuscle, o.back_line, o.unit_angle_deg);
-  leg.front_unit_force = unit_force(m.mesh, kFrontMuscle, leg.front_units, o.front_line, 1.0, o.max_muscle_stress);
-  leg.back_unit_force = unit_force(m.mesh, kBackMuscle, leg.back_units, o.back_line, 1.0, o.max_muscle_stress);
+  auto force = [&](int region, const std::vector<ContractileUnit>& units, const Vec3& line,
+                   const std::optional<double>& pcsa) {
+    return pcsa ? unit_force_for_area(m.mesh, region, units, line, 1.0, o.max_muscle_stress, *pcsa)
+                : unit_force(m.mesh, region, units, line, 1.0, o.max_muscle_stress);
+  };
+  leg.front_unit_force = force(kFrontMuscle, leg.front_units, o.front_line, o.front_pcsa);
+  leg.back_unit_force = force(kBackMuscle, leg.back_units, o.back_line, o.back_pcsa);
   leg.force_length = o.force_length;
   if (o.hill.enabled) check_hill_muscle(o.hill, "leg: muscles.hill");
   leg.hill = o.hill;

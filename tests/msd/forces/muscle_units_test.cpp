@@ -51,6 +51,27 @@ TEST(MuscleUnits, ASectionCarriesActivationTimesMaxStressTimesArea) {
   EXPECT_EQ(msd::unit_force(m, msd::kBackMuscle, units, msd::Vec3::UnitZ(), 0.0, sigma), 0.0);
 }
 
+TEST(MuscleUnits, ASectionCarriesTheGivenCrossSectionsForceWhenOneIsGiven) {
+  // A published PCSA in place of the mesh's section: the units crossing the
+  // plane z = 4.5 cm carry activation * sigma_max * PCSA; for the box's own
+  // section (4 x 4 cm) that is unit_force's share exactly.
+  const msd::TetMesh m = muscle_box();
+  const auto units = msd::contractile_units(m, msd::kBackMuscle, msd::Vec3::UnitZ(), 10.0);
+  const double a = 0.6, sigma = 2.7e5, pcsa = 0.0225;  // the quadriceps' 225 cm^2
+  int crossing = 0;
+  for (const auto& u : units) {
+    const double za = m.nodes(2, u.a), zb = m.nodes(2, u.b);
+    crossing += (std::min(za, zb) < 0.045 && std::max(za, zb) > 0.045) ? 1 : 0;
+  }
+  const double f = msd::unit_force_for_area(m, msd::kBackMuscle, units, msd::Vec3::UnitZ(), a, sigma, pcsa);
+  EXPECT_NEAR(crossing * f, a * sigma * pcsa, 1e-9 * a * sigma * pcsa);
+  EXPECT_NEAR(msd::unit_force_for_area(m, msd::kBackMuscle, units, msd::Vec3::UnitZ(), a, sigma, 0.04 * 0.04),
+              msd::unit_force(m, msd::kBackMuscle, units, msd::Vec3::UnitZ(), a, sigma), 1e-12);
+  EXPECT_THROW(msd::unit_force_for_area(m, msd::kBackMuscle, units, msd::Vec3::UnitZ(), a, sigma, 0.0), msd::Error);
+  EXPECT_THROW(msd::unit_force_for_area(m, msd::kBackMuscle, units, msd::Vec3::UnitZ(), a, sigma, -1e-3),
+               msd::Error);
+}
+
 TEST(MuscleUnits, ForcesAreEqualAndOppositeWithNoNetForceOrTorque) {
   const msd::TetMesh m = muscle_box();
   const auto units = msd::contractile_units(m, msd::kBackMuscle, msd::Vec3::UnitZ(), 10.0);

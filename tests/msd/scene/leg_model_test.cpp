@@ -179,6 +179,24 @@ TEST(LegModel, ShortenedTendonsPullWithTheirStrandsStiffnessAndMusclesAddNoNetFo
   EXPECT_GT((f - rest.f).cwiseAbs().maxCoeff(), 0.1 * leg.back_unit_force);
 }
 
+TEST(LegModel, APublishedCrossSectionSetsTheMusclesForceInPlaceOfTheMeshs) {
+  // The hamstrings' PCSA (88 cm^2) on the back muscle: each unit's force is
+  // max_stress x PCSA x L / Lambda (unit_force_for_area); the front muscle
+  // keeps the mesh's section. Twice the section, twice the force.
+  msd::LegModelOptions o = options();
+  o.back_pcsa = 0.0088;
+  const msd::LegModel leg = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  const msd::LegModel plain = msd::build_leg_model(shipped().mesh, shipped().tendons, options());
+  EXPECT_DOUBLE_EQ(leg.back_unit_force, msd::unit_force_for_area(shipped().mesh.mesh, msd::kBackMuscle, leg.back_units,
+                                                                 o.back_line, 1.0, o.max_muscle_stress, 0.0088));
+  EXPECT_DOUBLE_EQ(leg.front_unit_force, plain.front_unit_force);
+  o.back_pcsa = 0.0176;
+  EXPECT_NEAR(msd::build_leg_model(shipped().mesh, shipped().tendons, o).back_unit_force, 2.0 * leg.back_unit_force,
+              1e-12 * leg.back_unit_force);
+  // The thesis leg's back muscle (170 tets, 17 cm^2 of section) gets about five times its own force.
+  EXPECT_GT(leg.back_unit_force, 3.0 * plain.back_unit_force);
+}
+
 TEST(LegModel, PassiveJointTorqueDampsAndStiffensOnlyBeyondItsRange) {
   msd::LegModelOptions o = options();
   o.joint_damping = 0.25;

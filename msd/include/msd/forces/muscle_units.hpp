@@ -157,6 +157,15 @@ std::vector<ContractileUnit> contractile_units(const TetMesh& mesh, int region, 
 double unit_force(const TetMesh& mesh, int region, const std::vector<ContractileUnit>& units, const Vec3& direction,
                   double activation, double max_stress);
 
+/// Force of each unit (N) when the muscle's force comes from a given
+/// cross-section `area` (m^2; e.g. the published PCSA) instead of the mesh's:
+/// a section crosses on average Lambda / L units (L the region's extent along
+/// d, Lambda as above), so each unit carries activation * max_stress * area *
+/// L / Lambda. For a prism along d (V = A L) with area = A it is unit_force.
+/// 0 for no units; throws msd::Error for an area that is not positive.
+double unit_force_for_area(const TetMesh& mesh, int region, const std::vector<ContractileUnit>& units,
+                           const Vec3& direction, double activation, double max_stress, double area);
+
 /// Adds each unit's pull (`force` N along the current edge, times f_L of its
 /// stretch when `fl` is enabled) to f (3 x N).
 void add_muscle_forces(const Points& x, const std::vector<ContractileUnit>& units, double force, Points& f,

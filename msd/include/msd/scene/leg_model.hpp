@@ -78,6 +78,10 @@ struct LegModelOptions {
   /// Muscles (5.2.7): maximum isometric stress, line of action (unit vectors,
   /// front and back muscle) and the units' angle tolerance.
   double max_muscle_stress = 3.0e5;
+  /// The muscles' force from these cross-sections (m^2; the published PCSA,
+  /// docs/leg-geometry.md) instead of the mesh's: F_max = max_muscle_stress x
+  /// area (unit_force_for_area). Unset: the mesh's section (unit_force).
+  std::optional<double> front_pcsa, back_pcsa;
   Vec3 front_line{Vec3::UnitZ()}, back_line{Vec3::UnitZ()};
   double unit_angle_deg = 30.0;
   /// The units' force-length relation (msd/forces/muscle_units.hpp); the
