@@ -77,6 +77,11 @@ int cmd_leg_geometry(const LegGeometryArgs& args) {
   p.mass = args.mass;
   p.skin_cell = args.skin_cell;
   p.muscles = args.muscles == "anatomical" ? msd::MuscleShape::Anatomical : msd::MuscleShape::Thesis;
+  if (p.muscles == msd::MuscleShape::Anatomical && args.out.empty()) {
+    std::fprintf(stderr, "tissuebench: error: --muscles anatomical needs --out: the default folder, msd/data/leg, "
+                         "holds the shipped leg with the thesis' muscles\n");
+    return 2;
+  }
   const msd::LegGeometry leg = msd::make_leg(p);
   const double spacing = args.spacing > 0.0 ? args.spacing : kDefaultLegSpacing * p.stature / p.dims.reference_stature;
   const std::string out = args.out.empty() ? std::string(TISSUEBENCH_DATA_DIR) + "/leg" : args.out;
@@ -92,8 +97,8 @@ int cmd_leg_geometry(const LegGeometryArgs& args) {
   for (const auto& [name, m] : surfaces)
     std::printf("  %-13s %6d triangles %6d vertices  %7.3f L\n", name, m->num_triangles(), m->num_vertices(),
                 1e3 * msd::enclosed_volume(*m));
-  std::printf("  muscles (%s): quadriceps %.0f cm3 and hamstrings %.0f cm3 for this body (Handsfield et al. 2014), "
-              "PCSA %.0f and %.0f cm2 (Ward et al. 2009 fibre lengths)\n",
+  std::printf("  muscles: %s; the published quadriceps %.0f cm3 and hamstrings %.0f cm3 for this body (Handsfield et "
+              "al. 2014), PCSA %.0f and %.0f cm2 (Ward et al. 2009 fibre lengths)\n",
               args.muscles.c_str(), 1e6 * leg.front_target_volume, 1e6 * leg.back_target_volume, 1e4 * leg.front_pcsa,
               1e4 * leg.back_pcsa);
   std::printf("  tendons: %zu paths; grid spacing in the scene %.4f m; %.2f s\n", leg.tendons.size(), spacing, seconds);

@@ -45,6 +45,7 @@ TEST(CliInput, GeometryViewAndServeOptionsAreChecked) {
   expect_refused("leg-geometry --mass nan" + out, "--mass: must be a finite number (kg)");
   expect_refused("leg-geometry --skin-cell 0" + out, "--skin-cell: must be in (0, inf]");
   expect_refused("leg-geometry --muscles bogus" + out, "--muscles: bogus not in {thesis,anatomical}");
+  expect_refused("leg-geometry --muscles anatomical", "--muscles anatomical needs --out");  // not over the shipped leg
   EXPECT_FALSE(std::filesystem::exists(dir.file("g")));
   expect_refused("view " + dir.path().string() + " --max-frames 1", "--max-frames: must be in [2, 100000] (frames); got 1");
   expect_refused("serve --seconds nan", "--seconds: must be a finite number (wall seconds)");

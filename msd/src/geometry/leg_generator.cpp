@@ -352,13 +352,13 @@ double compartment_volume(const ThighSections& section, const Compartment& c) {
 
 // The plane t that gives the group `volume` (m^3); throws when the
 // compartment cannot hold it.
-Compartment size_compartment(const ThighSections& section, Compartment c, double volume, const std::string& group,
-                             const LegParameters& p) {
+Compartment size_compartment(const ThighSections& section, Compartment c, double volume, double published,
+                             const std::string& group, const LegParameters& p) {
   c.t = -1.0;
   const double whole = compartment_volume(section, c);
-  if (!(volume > 0.0) || volume >= 0.95 * whole) {
+  if (!(volume > 0.0) || !(volume < 0.95 * whole)) {
     std::ostringstream m;
-    m << "leg (stature " << p.stature << " m, mass " << p.mass << " kg): the " << group << " (" << 1e6 * volume
+    m << "leg (stature " << p.stature << " m, mass " << p.mass << " kg): the " << group << " (" << 1e6 * published
       << " cm^3) do not fit in the thigh's muscle compartment (" << 1e6 * whole << " cm^3)";
     throw Error(m.str());
   }
@@ -425,11 +425,13 @@ std::pair<Compartment, TriangleMesh> mesh_compartment(const ThighSections& secti
                                                       const ScalarField* keep_out, ImplicitMeshOptions o) {
   o.relax_iterations = 0;
   double target = volume;
-  c = size_compartment(section, c, target, group, p);
+  c = size_compartment(section, c, target, volume, group, p);
   TriangleMesh m = mesh_implicit_surface(compartment_field(section, c, keep_out), o);
   for (int i = 0; i < 2; ++i) {
-    target *= volume / enclosed_volume(m);
-    c = size_compartment(section, c, target, group, p);
+    const double got = enclosed_volume(m);
+    if (!(got > 0.0)) throw Error("leg: the " + group + "' surface encloses no volume");
+    target *= volume / got;
+    c = size_compartment(section, c, target, volume, group, p);
     m = mesh_implicit_surface(compartment_field(section, c, keep_out), o);
   }
   return {c, std::move(m)};
@@ -488,11 +490,11 @@ std::vector<TendonPathSpec> leg_tendons(const LegFrame& f, const MuscleBody& fro
   };
 }
 
-// The two muscles of the chosen shape. Anatomical: the quadriceps from 12 % to
-// 94 % of the thigh's length above the knee, the hamstrings from 12 % to 90 %
-// (modelling choices: the vasti end a hand's breadth above the knee cap, the
-// hamstrings' heads start at the ischial tuberosity below the hip joint), the
-// two cuts kept at least 0.1 of the compartment's half-depth apart.
+// The two muscles of the chosen shape. Anatomical: the quadriceps' compartment
+// from 10 % to 96 % of the thigh's length above the knee, the hamstrings' from
+// 4 % to 98 % (modelling choices: the vasti end a few centimetres above the
+// knee cap; the hamstrings, cut off where their plane meets the tapered
+// compartment, span about 9-93 %); the two planes must not cross.
 std::pair<MuscleBody, MuscleBody> muscle_bodies(const LegParameters& p, const LegFrame& f,
                                                 const ThighSections& section, const LegGeometry& leg,
                                                 const BoneLayout& bones, const ImplicitMeshOptions& o) {
@@ -506,6 +508,7 @@ std::pair<MuscleBody, MuscleBody> muscle_bodies(const LegParameters& p, const Le
              [&section, back](double z) { return muscle_x(section, back, z); }, zk + 0.16 * T, zk + 0.84 * T}};
   }
   const double k = p.dims.compartment_scale;
+  require_range(k, 0.5, 0.99, "compartment_scale");
   auto [front, front_surface] = mesh_compartment(section, {+1, k, 0.0, zk + 0.10 * T, zk + 0.96 * T},
                                                  leg.front_target_volume, "quadriceps", p, &femur, o);
   auto [back, back_surface] = mesh_compartment(section, {-1, k, 0.0, zk + 0.04 * T, zk + 0.98 * T},

@@ -10,6 +10,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include <unistd.h>
 #include <map>
 
 namespace {
@@ -175,6 +180,15 @@ TEST(LegGenerator, ShippedFilesAreWhatTheGeneratorWrites) {
     ASSERT_EQ(shipped.triangles, mesh->triangles) << name << ": regenerate with `tissuebench leg-geometry`";
     EXPECT_LT((shipped.vertices - mesh->vertices).cwiseAbs().maxCoeff(), 1e-9) << name;
   }
+  // The mesh scene too: tendon paths, spacing, pull area, header.
+  const std::filesystem::path tmp = std::filesystem::temp_directory_path() / ("tb_leg_generator_shipped_" + std::to_string(::getpid()));
+  msd::write_leg(leg, msd::LegParameters{}, 0.0245, tmp.string());
+  auto text = [](const std::string& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  EXPECT_EQ(text((tmp / "leg.yaml").string()), text(dir + "leg.yaml"));
+  std::filesystem::remove_all(tmp);
 }
 
 TEST(LegGenerator, MeshLegMeshesTheShippedSurfacesAndRoutesTheGeneratorsTendons) {
@@ -216,7 +230,9 @@ long region_tets(const msd::LimbMesh& m, int region) {
 TEST(LegGenerator, GroupVolumesAreHandsfieldsRegressionsAndTheCrossSectionUsesWardsFibreLengths) {
   // Handsfield et al. 2014, supplementary table 3 (V = slope h m + intercept,
   // cm^3), and Ward et al. 2009's fibre lengths (cm), written out here by hand
-  // for the ANSUR II mean man (h m = 1.756 x 85.5 = 150.138 m kg).
+  // for the ANSUR II mean man (h m = 1.756 x 85.5 = 150.138 m kg). This checks
+  // the sums, not the coefficients' transcription; that is checked below
+  // against a second, independent transcription of the same table.
   const double hm = 1.756 * 85.5;
   const double rf = 1.71 * hm + 56.9, vl = 5.89 * hm + 102.0, vm = 3.03 * hm + 57.6, vi = 1.29 * hm + 111.0;
   const double bfl = 1.24 * hm + 53.0, bfs = 0.738 * hm + 8.64, st = 1.27 * hm + 29.1, sm = 1.54 * hm + 54.5;
@@ -228,6 +244,15 @@ TEST(LegGenerator, GroupVolumesAreHandsfieldsRegressionsAndTheCrossSectionUsesWa
   EXPECT_NEAR(msd::group_pcsa(d.quadriceps, 1.756, 85.5), 1e-4 * (rf / 7.6 + vl / 9.9 + vm / 9.7 + vi / 9.9), 1e-10);
   EXPECT_NEAR(msd::group_pcsa(d.hamstrings, 1.756, 85.5), 1e-4 * (bfl / 9.8 + bfs / 11.0 + st / 19.3 + sm / 6.9),
               1e-10);
+  // The second transcription (V_i = b1 V_total + b2, V_total = 47 h m + 1285;
+  // docs/leg-geometry.md) gives 2,115.6 and 862.7 cm^3 here: within 1 %.
+  const double total = 47.0 * hm + 1285.0;
+  const double quads2 = (0.0371 * total + 4.97) + (0.125 * total - 55.7) + (0.0631 * total - 16.3) +
+                        (0.0273 * total + 76.5);
+  const double hams2 = (0.0256 * total + 24.3) + (0.016 * total - 13.8) + (0.0285 * total - 16.8) +
+                       (0.0319 * total + 18.2);
+  EXPECT_NEAR(1e6 * msd::group_volume(d.quadriceps, 1.756, 85.5), quads2, 0.01 * quads2);
+  EXPECT_NEAR(1e6 * msd::group_volume(d.hamstrings, 1.756, 85.5), hams2, 0.01 * hams2);
   // The geometry reports them whatever the shape.
   const msd::LegGeometry& thesis = default_leg();
   EXPECT_DOUBLE_EQ(thesis.front_target_volume, msd::group_volume(d.quadriceps, 1.756, 85.5));
@@ -235,10 +260,11 @@ TEST(LegGenerator, GroupVolumesAreHandsfieldsRegressionsAndTheCrossSectionUsesWa
 }
 
 TEST(LegGenerator, AnatomicalMusclesHoldTheirGroupsPublishedVolumeForEveryBody) {
-  // The surfaces enclose the regression's volume to within 3 % (the blend of
-  // the cut and the marching-tetrahedra surface), for the mean man and for a
-  // small and a large body; the limb is valid and the tendons start in their
-  // muscles. The thesis' spindles hold 740 and 780 cm^3 whatever the body.
+  // The surfaces enclose the regression's volume to within 3 %, for the mean
+  // man and for a small and a large body: the generator sizes each group by
+  // the volume its own surface encloses, so this checks that sizing converges
+  // on the surface that is written. The limb is valid and the tendons start in
+  // their muscles.
   const std::pair<double, double> bodies[] = {{1.756, 85.5}, {1.60, 55.0}, {1.95, 110.0}};
   for (const auto& [stature, mass] : bodies) {
     msd::LegParameters p = anatomical(stature, mass);
@@ -273,18 +299,20 @@ TEST(LegGenerator, AnatomicalMusclesMeshedCloserToTheirPublishedVolumeAsTheGridR
              {msd::kLowerBone, leg.lower_bone},
              {msd::kFrontMuscle, leg.front_muscle},
              {msd::kBackMuscle, leg.back_muscle}};
-  auto meshed = [&](double h, int region) {
+  auto mesh_at = [&](double h) {
     msd::LimbMeshOptions o;
     o.spacing = h;
-    return region_tets(msd::mesh_limb(s, o), region) * h * h * h / 5.0;
+    return msd::mesh_limb(s, o);
   };
+  const msd::LimbMesh coarse_mesh = mesh_at(0.0245), fine_mesh = mesh_at(0.012);
+  auto meshed = [](const msd::LimbMesh& m, double h, int region) { return region_tets(m, region) * h * h * h / 5.0; };
   for (const auto& [region, target] : {std::pair{msd::kFrontMuscle, leg.front_target_volume},
                                        std::pair{msd::kBackMuscle, leg.back_target_volume}}) {
-    const double coarse = meshed(0.0245, region), fine = meshed(0.012, region);
+    const double coarse = meshed(coarse_mesh, 0.0245, region), fine = meshed(fine_mesh, 0.012, region);
     EXPECT_LT(std::abs(fine - target), std::abs(coarse - target)) << msd::region_name(region);
     EXPECT_NEAR(fine, target, 0.30 * target) << msd::region_name(region);
   }
-  EXPECT_GT(meshed(0.0245, msd::kFrontMuscle), 30 * 0.0245 * 0.0245 * 0.0245 / 5.0);
+  EXPECT_GT(region_tets(coarse_mesh, msd::kFrontMuscle), 30);
 }
 
 TEST(LegGenerator, MusclesWithoutVolumeOrFibreLengthAndMusclesThatDoNotFitAreNamed) {
@@ -304,8 +332,13 @@ TEST(LegGenerator, MusclesWithoutVolumeOrFibreLengthAndMusclesThatDoNotFitAreNam
   p.dims.hamstrings.muscles[0].intercept = -400.0;  // a negative volume for this body
   EXPECT_NE(error_of(p).find("hamstrings: biceps femoris, long head: volume"), std::string::npos) << error_of(p);
   p = anatomical();
-  p.dims.compartment_scale = 0.4;  // a compartment too small for 2 L of quadriceps
-  EXPECT_NE(error_of(p).find("the quadriceps (2117.1"), std::string::npos) << error_of(p);
+  p.dims.compartment_scale = 0.4;  // more fat than muscle
+  EXPECT_NE(error_of(p).find("compartment_scale = 0.4 is outside 0.5 ... 0.99"), std::string::npos) << error_of(p);
+  p.dims.compartment_scale = std::nan("");
+  EXPECT_NE(error_of(p).find("compartment_scale = nan"), std::string::npos) << error_of(p);
+  p = anatomical();
+  for (auto& m : p.dims.quadriceps.muscles) m.slope *= 4.0;  // 4 x 11.92 x 150.138 + 327.5 = 7,486 cm^3 in a 13.9 L leg
+  EXPECT_NE(error_of(p).find("the quadriceps (7486.08"), std::string::npos) << error_of(p);
   EXPECT_NE(error_of(p).find("do not fit in the thigh's muscle compartment"), std::string::npos) << error_of(p);
   p = anatomical();
   for (auto& m : p.dims.hamstrings.muscles) m.slope *= 2.5;  // hamstrings as large as the quadriceps: they meet

@@ -193,7 +193,8 @@ TEST(LegModel, APublishedCrossSectionSetsTheMusclesForceInPlaceOfTheMeshs) {
   o.back_pcsa = 0.0176;
   EXPECT_NEAR(msd::build_leg_model(shipped().mesh, shipped().tendons, o).back_unit_force, 2.0 * leg.back_unit_force,
               1e-12 * leg.back_unit_force);
-  // The thesis leg's back muscle (170 tets, 17 cm^2 of section) gets about five times its own force.
+  // The thesis leg's back muscle has about 17 cm^2 of meshed section (docs/leg-geometry.md), so 88 cm^2 pulls
+  // more than three times as hard.
   EXPECT_GT(leg.back_unit_force, 3.0 * plain.back_unit_force);
 }
 

@@ -3,7 +3,9 @@
 // foot's bones, a front (quadriceps-like) and a back (hamstrings-like) muscle,
 // and four tendon paths joining each muscle to both bones - closed, outward
 // surfaces built as implicit solids (implicit_surface.hpp) from published
-// anthropometry, scaled by stature and mass.
+// anthropometry, scaled by stature and mass. The muscles are the thesis'
+// spindles or, with MuscleShape::Anatomical, the quadriceps and hamstrings
+// sized to their published volumes for the body (Handsfield et al. 2014).
 //
 // Frame: z up from the floor (the sole at z = 0), x forward (anterior), y to
 // the side (lateral: the fibula lies at +y). The skin is cut flat at hip-joint
@@ -92,13 +94,13 @@ struct LegDimensions {
                                  {"semimembranosus", 1.54, 54.5, 0.069}}};
   /// The thigh's muscle compartment: the skin's section scaled by this about
   /// the section's centre (the rest is subcutaneous fat and skin). No source
-  /// found: a modelling choice (about 1 cm of fat at mid-thigh).
+  /// found: a modelling choice (about 8 mm of fat at mid-thigh).
   double compartment_scale = 0.90;
 };
 
 /// The two muscles' shapes. Thesis: the thesis' "loosely based" spindles (a
-/// quadriceps of about 740 cm^3 and hamstrings of about 780 cm^3 at the
-/// reference body). Anatomical: the thigh's muscle compartment (the skin's
+/// quadriceps of about 740 cm^3 and hamstrings of about 790 cm^3 at the
+/// reference body, scaling with the skin's sections). Anatomical: the thigh's muscle compartment (the skin's
 /// sections scaled by `compartment_scale`, tapered to both ends) split by two
 /// planes into a front and a back part, each sized to its group's published
 /// volume for this stature and mass (LegDimensions::quadriceps, hamstrings);
@@ -136,7 +138,11 @@ struct LegGeometry {
 /// Builds the leg. Throws msd::Error naming the parameter for a stature outside
 /// 1.2-2.3 m, a mass outside 30-200 kg, a cell outside 2-30 mm, or a body
 /// whose bones or muscles would leave the skin or overlap (the surfaces are
-/// checked by validate_limb before they are returned).
+/// checked by validate_limb before they are returned). Whatever the shape, it
+/// throws (group_volume) for a muscle in `dims.quadriceps` or `hamstrings`
+/// without a positive volume or fibre length, since their published volumes
+/// are reported; with MuscleShape::Anatomical also for a compartment_scale
+/// outside 0.5-0.99 and for groups that do not fit in the compartment.
 LegGeometry make_leg(const LegParameters& params);
 
 /// Writes skin.obj, upper_bone.obj, lower_bone.obj, front_muscle.obj,
