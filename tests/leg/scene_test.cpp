@@ -4,6 +4,7 @@
 // run leaves behind.
 #include "leg/run.hpp"
 #include "leg/scene.hpp"
+#include "msd/geometry/leg_generator.hpp"
 #include "tbio/results_file.hpp"
 #include "test_support.hpp"
 
@@ -353,4 +354,24 @@ TEST(LegScene, AScriptedHipIsReadAndKeyframesOutOfOrderOrNotARotationAreRefused)
           "eight numbers");
   const std::string no_pivot = variant_of("swing", "  pivot: [0, 0, 0.93]", "", dir + "/hip_no_pivot.yaml");
   EXPECT_NE(error_of(no_pivot).find("pivot"), std::string::npos) << error_of(no_pivot);
+}
+
+TEST(LegScene, TheIsometricKneeExperimentsReadOnTheAnatomicalLegWithRealTendonsAndThePublishedPcsa) {
+  // msd/data/experiments: the runs behind docs/leg-geometry.md's isometric torque table.
+  const std::string dir = std::string(TISSUEBENCH_DATA_DIR) + "/experiments/";
+  const leg::LegScene front = leg::read_leg_scene(dir + "isometric_knee_front.yaml");
+  const leg::LegScene back = leg::read_leg_scene(dir + "isometric_knee_back.yaml");
+  for (const leg::LegScene* s : {&front, &back}) {
+    EXPECT_EQ(fs::path(s->geometry).parent_path().filename(), "leg_anatomical") << s->geometry;
+    EXPECT_DOUBLE_EQ(s->model.tendon_modulus, 1.2e9);
+    EXPECT_DOUBLE_EQ(s->model.max_muscle_stress, 2.7e5);
+    EXPECT_TRUE(s->model.hill.enabled);
+  }
+  ASSERT_TRUE(front.model.front_pcsa.has_value());
+  EXPECT_FALSE(front.model.back_pcsa.has_value());
+  ASSERT_TRUE(back.model.back_pcsa.has_value());
+  // The groups' PCSA for the leg's body, rounded to the docs' figures (225 and 88 cm^2).
+  const msd::LegDimensions d;
+  EXPECT_NEAR(*front.model.front_pcsa, msd::group_pcsa(d.quadriceps, 1.756, 85.5), 0.005 * *front.model.front_pcsa);
+  EXPECT_NEAR(*back.model.back_pcsa, msd::group_pcsa(d.hamstrings, 1.756, 85.5), 0.01 * *back.model.back_pcsa);
 }

@@ -315,6 +315,30 @@ TEST(LegGenerator, AnatomicalMusclesMeshedCloserToTheirPublishedVolumeAsTheGridR
   EXPECT_GT(region_tets(coarse_mesh, msd::kFrontMuscle), 30);
 }
 
+TEST(LegGenerator, TheShippedAnatomicalLegIsWhatTheGeneratorWrites) {
+  // msd/data/leg_anatomical (the isometric experiments' leg): regenerate with
+  // `tissuebench leg-geometry --muscles anatomical --out msd/data/leg_anatomical`.
+  const msd::LegParameters p = anatomical();
+  const msd::LegGeometry leg = msd::make_leg(p);
+  const std::string dir = std::string(TISSUEBENCH_DATA_DIR) + "/leg_anatomical/";
+  for (const auto& [name, mesh] : {std::pair<const char*, const msd::TriangleMesh*>{"front_muscle.obj", &leg.front_muscle},
+                                   {"back_muscle.obj", &leg.back_muscle},
+                                   {"skin.obj", &leg.skin}}) {
+    const msd::TriangleMesh shipped = msd::read_obj(dir + name);
+    ASSERT_EQ(shipped.triangles, mesh->triangles) << name;
+    EXPECT_LT((shipped.vertices - mesh->vertices).cwiseAbs().maxCoeff(), 1e-9) << name;
+  }
+  const std::filesystem::path tmp =
+      std::filesystem::temp_directory_path() / ("tb_leg_generator_anatomical_" + std::to_string(::getpid()));
+  msd::write_leg(leg, p, 0.0245, tmp.string());
+  auto text = [](const std::string& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  EXPECT_EQ(text((tmp / "leg.yaml").string()), text(dir + "leg.yaml"));
+  std::filesystem::remove_all(tmp);
+}
+
 TEST(LegGenerator, MusclesWithoutVolumeOrFibreLengthAndMusclesThatDoNotFitAreNamed) {
   auto error_of = [](const msd::LegParameters& p) {
     try {
