@@ -488,6 +488,17 @@ TEST(Cli, LegGeometryWritesALegThatMeshesAndTheShippedLegIsTheDefault) {
   for (const char* region : {"\"front_muscle\": 0,", "\"back_muscle\": 0,", "\"upper_bone\": 0,", "\"lower_bone\": 0,"})
     EXPECT_EQ(summary.find(region), std::string::npos) << region << " has no tets\n" << summary;
 
+  // The same body with its muscles sized to the published volumes: it meshes, with every strand routed.
+  r = sh("leg-geometry --stature 1.65 --mass 60 --skin-cell 0.02 --muscles anatomical --out " + dir.file("anat"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("muscles: anatomical"), std::string::npos) << r.output;
+  r = sh("mesh " + dir.file("anat/leg.yaml") + " --out " + dir.file("anat_mesh"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string anat = slurp(dir.file("anat_mesh/summary.json"));
+  EXPECT_NE(anat.find("\"tendon_strands\": 26"), std::string::npos) << anat;
+  for (const char* region : {"\"front_muscle\": 0,", "\"back_muscle\": 0,"})
+    EXPECT_EQ(anat.find(region), std::string::npos) << region << " has no tets\n" << anat;
+
   // No scene: the shipped leg (msd/data/leg/leg.yaml), at the thesis' resolution.
   r = sh("mesh --out " + dir.file("default"));
   ASSERT_EQ(r.code, 0) << r.output;
@@ -503,6 +514,17 @@ TEST(Cli, LegGeometryWritesALegThatMeshesAndTheShippedLegIsTheDefault) {
   // Refused by the option's own check, before the generator runs.
   EXPECT_NE(r.output.find("--stature: must be in [1.2, 2.3] (m); got 2.9"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir.file("bad")));
+}
+
+TEST(Cli, TheIsometricKneeExperimentRunsOnTheAnatomicalLeg) {
+  // msd/data/experiments/isometric_knee_front.yaml (BDF2, real tendons, the Hill
+  // law with the PCSA's force): its first 0.05 s, the knee starting to bend.
+  testing_support::TempDir dir("cli_leg_isometric");
+  const Result r = sh("leg " + std::string(TISSUEBENCH_DATA_DIR) + "/experiments/isometric_knee_front.yaml --out " +
+                      dir.file("iso") + " --duration 0.05 --quiet");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("isometric_knee_front: complete, 0.05 s simulated"), std::string::npos) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir.file("iso/leg.h5")));
 }
 
 TEST(Cli, LegRunsASceneSaysWhatItWroteAndRefusesBadOnesOrBlowUpsWithTheirExitCodes) {
