@@ -1,0 +1,80 @@
+// The skin as a membrane (issue 18, item 4): a thin layer of skin on the
+// limb's outer surface, each surface triangle a constant-strain element of an
+// incompressible neo-Hookean membrane of thickness h (plane stress, the
+// thickness free to change so that the volume is kept). Skin is too thin
+// (about 1-2 mm) for a layer of the lattice's tets (24.5 mm at the thesis'
+// spacing), so it is meshed as the surface's own triangles: the membrane
+// model of thin incompressible sheets (Green & Adkins 1960, "Large Elastic
+// Deformations", ch. 4; as used for skin by Flynn, Taberner & Nielsen 2011,
+// Biomech. Model. Mechanobiol. 10:27).
+//
+// Per triangle (rest corners X_0, X_1, X_2, area A0; current x_0, x_1, x_2):
+//
+//   D_m = the rest edges X_1 - X_0, X_2 - X_0 in the triangle's own 2-D frame
+//         (2 x 2),   D_s = [x_1 - x_0, x_2 - x_0] (3 x 2),
+//   F   = D_s D_m^-1 (3 x 2),   C = F^T F (2 x 2),   J2 = det C  (= the area
+//         ratio squared),
+//   W   = A0 h mu/2 (tr C + 1/J2 - 3)
+//
+// (incompressible: the thickness stretch is 1/sqrt(J2), so the 3-D neo-Hookean
+// I_1 - 3 becomes tr C + 1/J2 - 3). Linearised at rest this is a plane-stress
+// sheet of Young's modulus E = 3 mu and Poisson's ratio 1/2, so mu = E / 3.
+// Its first Piola-Kirchhoff stress (per unit rest area, times h) and forces:
+//
+//   P   = dW/dF / A0 = h mu (F - F C^-1 / J2),
+//   f_1, f_2 = the columns of -A0 P D_m^-T,   f_0 = -(f_1 + f_2),
+//
+// and its stiffness from
+//   dP  = h mu [dF - dF C^-1/J2 + F C^-1 dC C^-1 / J2 + F C^-1 tr(C^-1 dC) / J2],
+//   dC  = dF^T F + F^T dF,
+// a 9 x 9 block per triangle, the Hessian of W (symmetric; indefinite under
+// in-plane compression, where a real membrane would wrinkle).
+//
+// Equibiaxial stretch l (C = l^2 I) gives W = A0 h mu/2 (2 l^2 + l^-4 - 3) and
+// the Cauchy stress mu (l^2 - l^-4) (Green & Adkins): the closed forms the
+// tests check.
+#pragma once
+
+#include "msd/core/types.hpp"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <vector>
+
+namespace msd {
+
+using Mat9 = Eigen::Matrix<double, 9, 9>;
+
+struct MembraneTriangle {
+  std::array<int, 3> nodes{};
+  Eigen::Matrix2d rest_inverse{Eigen::Matrix2d::Identity()};  ///< D_m^-1 (2 x 2)
+  double rest_area = 0.0;                                       ///< A0, m^2
+};
+
+/// The skin: its triangles and the sheet's constants. Empty: no skin.
+struct SkinMembrane {
+  std::vector<MembraneTriangle> triangles;
+  double shear_modulus = 0.0;  ///< mu = E / 3, Pa
+  double thickness = 0.0;      ///< h, m
+  bool empty() const { return triangles.empty(); }
+};
+
+/// The membrane on `faces` of the rest positions (3 x N), with Young's modulus
+/// E (Pa) and thickness h (m). Throws msd::Error unless E and h are positive
+/// and finite, and naming a face whose rest area is zero or whose node is out
+/// of range.
+SkinMembrane make_skin_membrane(const Points& rest, const std::vector<Tri>& faces, double youngs_modulus,
+                                double thickness);
+
+/// The membrane's elastic energy at positions x (3 x N), J.
+double membrane_energy(const SkinMembrane& skin, const Points& x);
+
+/// Adds the membrane's forces at x to f (3 x N). No allocation.
+void add_membrane_forces(const SkinMembrane& skin, const Points& x, Points& f);
+
+/// Triangle k's stiffness df/dx at x (9 x 9; block (i, j) = df_i / dx_j over
+/// its nodes in order).
+Mat9 membrane_triangle_stiffness(const SkinMembrane& skin, size_t k, const Points& x);
+
+}  // namespace msd

@@ -1,0 +1,155 @@
+// The skin membrane (msd/forces/skin_membrane.hpp): rest and rigid motions are
+// force-free, equibiaxial stretch matches the incompressible sheet's closed
+// form (and its small-strain limit E / (1 - nu) with E = 3 mu, nu = 1/2), the
+// forces are minus the energy's gradient and the stiffness their derivative.
+#include "msd/forces/skin_membrane.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+using msd::Points;
+using msd::Vec3;
+
+namespace {
+
+// Published in-vivo skin (the scale of the constants the leg uses): E = 0.42 MPa
+// (Agache et al. 1980), h = 1.5 mm.
+constexpr double kE = 0.42e6, kH = 1.5e-3;
+
+// Two triangles sharing an edge, not in a coordinate plane, of edge ~2 cm.
+Points rest_patch() {
+  Points x(3, 4);
+  x.col(0) = Vec3(0.0, 0.0, 0.0);
+  x.col(1) = Vec3(0.020, 0.002, 0.003);
+  x.col(2) = Vec3(0.004, 0.018, -0.002);
+  x.col(3) = Vec3(0.022, 0.021, 0.004);
+  return x;
+}
+const std::vector<msd::Tri> kFaces{{0, 1, 2}, {1, 3, 2}};
+
+Points forces(const msd::SkinMembrane& s, const Points& x) {
+  Points f = Points::Zero(3, x.cols());
+  msd::add_membrane_forces(s, x, f);
+  return f;
+}
+
+Points randomly_moved(const Points& x, double amount, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Points y = x;
+  for (int i = 0; i < x.cols(); ++i) y.col(i) += amount * Vec3(u(rng), u(rng), u(rng));
+  return y;
+}
+
+}  // namespace
+
+TEST(SkinMembrane, RestAndRigidMotionsCarryNoForceAndNoEnergy) {
+  const Points x0 = rest_patch();
+  const msd::SkinMembrane s = msd::make_skin_membrane(x0, kFaces, kE, kH);
+  EXPECT_DOUBLE_EQ(s.shear_modulus, kE / 3.0);
+  EXPECT_NEAR(msd::membrane_energy(s, x0), 0.0, 1e-15);
+  EXPECT_LT(forces(s, x0).norm(), 1e-9);
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Vec3(1, 2, -1).normalized()).toRotationMatrix();
+  const Points moved = (R * x0).colwise() + Vec3(0.3, -0.1, 0.05);
+  EXPECT_NEAR(msd::membrane_energy(s, moved), 0.0, 1e-12);
+  EXPECT_LT(forces(s, moved).norm(), 1e-9);
+}
+
+TEST(SkinMembrane, EquibiaxialStretchFollowsTheIncompressibleSheetsClosedForm) {
+  // x = l X about the centroid: W = A0 h mu/2 (2 l^2 + l^-4 - 3) and the
+  // generalised force sum_i f_i . (X_i - c) = -dW/dl = -2 A0 h mu (l - l^-5),
+  // which is the Cauchy stress mu (l^2 - l^-4) on the current section
+  // (area A0 l^2, thickness h l^-2): -2 sigma A0 h / l.
+  const Points x0 = rest_patch();
+  const msd::SkinMembrane s = msd::make_skin_membrane(x0, kFaces, kE, kH);
+  double area = 0.0;
+  for (const auto& t : s.triangles) area += t.rest_area;
+  const Vec3 c = x0.rowwise().mean();
+  const Points r = x0.colwise() - c;
+  const double mu = kE / 3.0;
+  for (double l : {0.6, 0.9, 1.0 + 1e-6, 1.3, 2.0}) {
+    const Points x = (l * r).colwise() + c;
+    const double w = 0.5 * area * kH * mu * (2 * l * l + std::pow(l, -4) - 3);
+    EXPECT_NEAR(msd::membrane_energy(s, x), w, 1e-10 * std::max(w, 1e-12)) << "l " << l;
+    const Points f = forces(s, x);
+    double generalised = 0.0;
+    for (int i = 0; i < 4; ++i) generalised += f.col(i).dot(r.col(i));
+    const double sigma = mu * (l * l - std::pow(l, -4));
+    EXPECT_NEAR(generalised, -2.0 * sigma * area * kH / l, 1e-9 * std::abs(sigma * area * kH)) << "l " << l;
+    if (l < 1.0 + 1e-5 && l > 1.0) {
+      // Small strain: sigma = E / (1 - nu) eps, the plane-stress sheet of E = 3 mu, nu = 1/2.
+      EXPECT_NEAR(sigma / (l - 1.0), kE / (1.0 - 0.5), 1e-4 * kE);
+    }
+  }
+}
+
+TEST(SkinMembrane, ForcesAreMinusTheGradientOfTheEnergy) {
+  const Points x0 = rest_patch();
+  const msd::SkinMembrane s = msd::make_skin_membrane(x0, kFaces, kE, kH);
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const Points x = randomly_moved(x0, 0.006, seed);
+    const Points f = forces(s, x);
+    const double scale = f.cwiseAbs().maxCoeff();
+    ASSERT_GT(scale, 1.0);  // a real deformation: newtons on 2 cm of skin
+    const double h = 1e-8;
+    for (int i = 0; i < 4; ++i)
+      for (int a = 0; a < 3; ++a) {
+        Points xp = x, xm = x;
+        xp(a, i) += h;
+        xm(a, i) -= h;
+        const double grad = (msd::membrane_energy(s, xp) - msd::membrane_energy(s, xm)) / (2 * h);
+        EXPECT_NEAR(f(a, i), -grad, 1e-6 * scale) << "seed " << seed << " node " << i << " axis " << a;
+      }
+    EXPECT_LT(f.rowwise().sum().norm(), 1e-12 * scale);  // internal: no net force
+  }
+}
+
+TEST(SkinMembrane, EachTrianglesStiffnessIsTheDerivativeOfItsForces) {
+  const Points x0 = rest_patch();
+  const msd::SkinMembrane s = msd::make_skin_membrane(x0, kFaces, kE, kH);
+  for (unsigned seed : {4u, 5u}) {
+    const Points x = randomly_moved(x0, 0.006, seed);
+    for (size_t k = 0; k < s.triangles.size(); ++k) {
+      msd::SkinMembrane one = s;
+      one.triangles = {s.triangles[k]};
+      const msd::Mat9 K = msd::membrane_triangle_stiffness(s, k, x);
+      const double scale = K.cwiseAbs().maxCoeff();
+      EXPECT_LT((K - K.transpose()).cwiseAbs().maxCoeff(), 1e-9 * scale);  // the energy's Hessian
+      const double h = 1e-8;
+      for (int j = 0; j < 3; ++j)
+        for (int a = 0; a < 3; ++a) {
+          const int node = s.triangles[k].nodes[static_cast<size_t>(j)];
+          Points xp = x, xm = x;
+          xp(a, node) += h;
+          xm(a, node) -= h;
+          const Points df = (forces(one, xp) - forces(one, xm)) / (2 * h);
+          for (int i = 0; i < 3; ++i) {
+            const int row = s.triangles[k].nodes[static_cast<size_t>(i)];
+            for (int b = 0; b < 3; ++b)
+              EXPECT_NEAR(K(3 * i + b, 3 * j + a), df(b, row), 1e-5 * scale)
+                  << "seed " << seed << " triangle " << k << " (" << i << b << ", " << j << a << ")";
+          }
+        }
+    }
+  }
+}
+
+TEST(SkinMembrane, BadConstantsAndFacesAreRefusedByName) {
+  const Points x0 = rest_patch();
+  auto message = [&](const std::vector<msd::Tri>& faces, double e, double h) {
+    try {
+      msd::make_skin_membrane(x0, faces, e, h);
+    } catch (const msd::Error& err) {
+      return std::string(err.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message(kFaces, 0.0, kH).find("Young's modulus"), std::string::npos);
+  EXPECT_NE(message(kFaces, std::nan(""), kH).find("Young's modulus"), std::string::npos);
+  EXPECT_NE(message(kFaces, kE, -1e-3).find("thickness"), std::string::npos);
+  EXPECT_NE(message({{0, 1, 1}}, kE, kH).find("face 0 has zero area"), std::string::npos);
+  EXPECT_NE(message({{0, 1, 2}, {0, 1, 7}}, kE, kH).find("face 1 names node 7"), std::string::npos);
+}
