@@ -47,6 +47,10 @@ tbio::RunMeta run_meta(const LegScene& scene, const LegVariant& variant, const m
                    {"max_muscle_stress", o.max_muscle_stress}};
   if (o.front_pcsa) meta.material.push_back({"front_pcsa", *o.front_pcsa});
   if (o.back_pcsa) meta.material.push_back({"back_pcsa", *o.back_pcsa});
+  if (o.skin) {
+    meta.material.push_back({"skin_youngs_modulus", o.skin->youngs_modulus});
+    meta.material.push_back({"skin_thickness", o.skin->thickness});
+  }
   const std::string knee_control =
       scene.knee_angle.empty() ? "dynamic"
       : scene.knee_release     ? "scripted until " + tbio::json_number(*scene.knee_release) + " s, then dynamic"

@@ -402,9 +402,14 @@ LegScene read_leg_scene(const std::string& path) {
   s.text = text;
   read_run(f, path, s);
   const Fields mats = f.section("materials");
-  mats.only({"passive", "muscle"});
+  mats.only({"passive", "muscle", "skin"});
   s.model.passive = material(mats.section("passive"));
   s.model.muscle = material(mats.section("muscle"));
+  if (const auto skin = mats.optional_section("skin")) {
+    skin->only({"youngs_modulus", "thickness"});
+    s.model.skin = msd::LegModelOptions::Skin{number(*skin, "materials.skin.youngs_modulus"),
+                                              number(*skin, "materials.skin.thickness")};
+  }
   read_knee(f.section("knee"), s);
   if (const auto h = f.optional_section("hip")) read_hip(*h, s);
   if (const auto t = f.optional_section("tendons")) read_tendons(*t, s);

@@ -55,6 +55,8 @@ std::vector<Parameter> declare() {
       number("materials.*.repulsion_factor", "1", 0.5, non_negative, "k_r relative to the reference stiffness"),
       number("materials.*.volume_factor", "1", 1.6, non_negative, "k_v relative to the reference stiffness"),
       number("materials.*.repulsion_floor", "1", material.repulsion_floor, any, "tangent continuation of the repulsion below floor x0"),
+      number("materials.skin.youngs_modulus", "Pa", std::nullopt, positive, "the skin: a membrane on the leg's outer surface (msd/forces/skin_membrane.hpp), incompressible neo-Hookean, mu = E/3; in vivo about 0.4-0.9 MPa (Agache et al. 1980)"),
+      number("materials.skin.thickness", "m", std::nullopt, positive, "the skin's thickness (the membrane's stiffness is E x thickness)"),
       vector3("knee.centre", "m", std::nullopt, "the hinge's centre"),
       vector3("knee.axis", "1", msd::Vec3::UnitY(), "hinge axis; positive rotation = flexion"),
       other("knee.range_deg", Kind::List, "deg", degrees_text(model.min_flexion, model.max_flexion), "[min, max]: the hard stops"),

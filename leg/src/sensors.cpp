@@ -58,13 +58,15 @@ double bulge(const Instruments& in, const Frame& f, size_t area) {
   return b;
 }
 
-// Tissue elastic energy plus the tendons' (J).
+// Tissue elastic energy plus the tendons', the Hill muscles' passive element's
+// and the skin's (J).
 double elastic_energy(const msd::LegModel& leg, const Frame& f) {
   const msd::Points& x = f.state->tissue.x;
   const msd::LegControls& controls = *f.controls;
   double elastic = msd::conservative_energy(leg.tissue, x);
   for (const msd::Muscle& m : leg.tissue.muscles)  // a Hill muscle's passive element
     if (m.hill.enabled) elastic += msd::hill_muscle_passive_energy(x, m.units, m.unit_force, m.hill);
+  if (!leg.tissue.skin.empty()) elastic += msd::membrane_energy(leg.tissue.skin, x);
   for (size_t si = 0; si < leg.strands.size(); ++si) {
     const msd::LegStrand& s = leg.strands[si];
     const double l0 = si < controls.strand_natural_length.size() ? controls.strand_natural_length[si] : s.natural_length;

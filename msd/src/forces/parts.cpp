@@ -1,6 +1,7 @@
 #include "msd/forces/parts.hpp"
 
 #include "msd/forces/muscle_units.hpp"
+#include "msd/forces/skin_membrane.hpp"
 #include "msd/forces/tendon.hpp"
 
 #include <cmath>
@@ -87,6 +88,7 @@ void add_part_forces(const Model& model, const Points& x, const Points& v, const
     else if (a > 0.0)
       add_muscle_forces(x, mu.units, a * mu.unit_force, f, mu.force_length);
   }
+  if (!model.skin.empty()) add_membrane_forces(model.skin, x, f);
 }
 
 }  // namespace msd

@@ -63,6 +63,11 @@ SystemLayout make_system_layout(const Model& model) {
       need(u.a, u.b);
       need(u.b, u.a);
     }
+  // The skin's triangles are faces of the mesh's tets, so their node pairs are
+  // edges; a membrane on other triangles gets its pairs here.
+  for (const MembraneTriangle& t : model.skin.triangles)
+    for (int a : t.nodes)
+      for (int b : t.nodes) need(a, b);
   // The continuum element's volume groups couple every pair of a group's nodes.
   const VolumeGroups& groups = model.volume_groups;
   const auto group_nodes = [&](int g) {
@@ -117,6 +122,9 @@ SystemLayout make_system_layout(const Model& model) {
       L.unit_block.push_back(find_block(model, extra, u.a, u.b));
       L.unit_block.push_back(find_block(model, extra, u.b, u.a));
     }
+  for (const MembraneTriangle& t : model.skin.triangles)
+    for (int a : t.nodes)
+      for (int b : t.nodes) L.skin_block.push_back(find_block(model, extra, a, b));
   L.group_block_offset.assign(1, 0);
   for (int g = 0; g < groups.size(); ++g) {
     const auto [first, last] = group_nodes(g);
@@ -152,7 +160,7 @@ inline void add_edge_blocks(double* values, const SystemLayout& L, int n, int e,
   add_block(values, L, n + 2 * e + 1, B, c);
 }
 
-// The strands' and muscles' stiffness (jacobians.hpp), times c_k, and a Hill
+// The strands', muscles' and skin's stiffness (jacobians.hpp, skin_membrane.hpp), times c_k, and a Hill
 // unit's damping (its force-velocity relation), times c_d. An anchored
 // strand's anchor is not a degree of freedom: its rows and columns are
 // dropped.
@@ -204,6 +212,13 @@ void assemble_parts(const Model& model, const SystemLayout& L, const Points& x, 
       unit_blocks(u, unit, muscle_unit_jacobian(Vec3(x.col(u.b) - x.col(u.a)), u.rest_length, a * mu.unit_force, mu.force_length), c_k);
       ++unit;
     }
+  }
+  // The skin: each triangle's 9 x 9 stiffness (skin_membrane.hpp).
+  for (size_t k = 0; c_k != 0.0 && k < model.skin.triangles.size(); ++k) {
+    const Mat9 Ks = membrane_triangle_stiffness(model.skin, k, x);
+    const int* ids = L.skin_block.data() + 9 * k;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) add_block(values, L, ids[3 * i + j], Ks.block<3, 3>(3 * i, 3 * j), c_k);
   }
 }
 
@@ -317,7 +332,7 @@ struct HeldContact {
 struct ImplicitWorkspace {
   const Model* model = nullptr;  // the model the layout was made for
   int nodes = -1, edges = -1;
-  size_t strands = 0, muscles = 0;  // the parts the layout's extra blocks were made for
+  size_t strands = 0, muscles = 0, skin = 0;  // the parts the layout's extra blocks were made for
   int volume_groups = 0;
   SystemLayout layout;
   Eigen::SparseMatrix<double> A;
@@ -352,6 +367,7 @@ ImplicitWorkspace& workspace(const Model& model, Scratch& scratch) {
   ImplicitWorkspace& w = *scratch.implicit;
   if (w.model != &model || w.nodes != model.num_nodes() || w.edges != model.plan.num_edges() ||
       w.strands != model.strands.size() || w.muscles != model.muscles.size() ||
+      w.skin != model.skin.triangles.size() ||
       w.volume_groups != model.volume_groups.size()) {
     w.layout = make_system_layout(model);
     w.A = w.layout.pattern;
@@ -362,6 +378,7 @@ ImplicitWorkspace& workspace(const Model& model, Scratch& scratch) {
     w.edges = model.plan.num_edges();
     w.strands = model.strands.size();
     w.muscles = model.muscles.size();
+    w.skin = model.skin.triangles.size();
     w.volume_groups = model.volume_groups.size();
     w.model = &model;
   }

@@ -167,7 +167,7 @@ void evaluate_forces(const Model& model, const State& state, const Controls& con
   scratch.nonlinear_active = model.reference_forces
                                  ? compute_internal_forces_reference(model, state.x, state.v, scratch.f)
                                  : compute_forces_fast(model, state.x, state.v, scratch.f, scratch);
-  if (!model.strands.empty() || !model.muscles.empty())
+  if (!model.strands.empty() || !model.muscles.empty() || !model.skin.empty())
     add_part_forces(model, state.x, state.v, state.joints, controls, scratch);
   if (!scratch.f.allFinite()) fail_non_finite_force(model, state);
 }

@@ -166,10 +166,10 @@ void build_strands(const std::vector<TendonStrands>& tendons, const LegModelOpti
 
 // The skin: the limb's outer boundary faces (the joint space's hole has
 // boundary faces too, inside the knee, that no skin touches). Empty when no
-// contact needs it.
+// contact and no skin membrane needs it.
 std::vector<Tri> skin_faces(const LimbMesh& m, const TetMesh& tissue_mesh, const LegModelOptions& o) {
   std::vector<Tri> faces;
-  if (o.knee_contact_box || !o.obstacles.empty()) {
+  if (o.knee_contact_box || !o.obstacles.empty() || o.skin) {
     auto key = [](Tri f) {
       std::sort(f.begin(), f.end());
       return f;
@@ -324,6 +324,13 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
   const std::vector<Tri> skin = skin_faces(m, tissue_mesh, o);
   build_knee_contact(m, tissue_mesh, skin, o, leg);
   build_obstacles(m, skin, o, leg);
+  if (o.skin) {
+    try {
+      leg.tissue.skin = make_skin_membrane(leg.tissue.rest_positions, skin, o.skin->youngs_modulus, o.skin->thickness);
+    } catch (const Error& e) {
+      throw Error(std::string("leg: ") + e.what());
+    }
+  }
   build_muscles(m, o, leg);
   leg.leg_axis = o.leg_axis.normalized();
   set_passive_joint(o, leg);

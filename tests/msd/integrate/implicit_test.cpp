@@ -443,6 +443,50 @@ TEST(Implicit, AssembledJacobiansOfStrandsAndMusclesMatchFiniteDifferences) {
   EXPECT_LT(diff.cwiseAbs().maxCoeff(), 1e-6 * Kfd.cwiseAbs().maxCoeff());
 }
 
+TEST(Implicit, AssembledJacobiansOfTheSkinMembraneMatchFiniteDifferences) {
+  // The free block wrapped in a skin on its boundary faces, ten times stiffer
+  // per unit width than a centimetre of the block (E h = 300 N/m against
+  // 3 kPa x 1 cm), squeezed to 0.8 of its height and jittered by 2 mm: Newton's matrix against central
+  // differences of the forces, with the skin's share checked to matter.
+  msd::Model m = block(kAll);
+  std::vector<msd::Tet> tets;
+  for (const msd::Element& e : m.elements) tets.push_back(e.nodes);
+  const std::vector<msd::Tri> faces = msd::boundary_faces(tets);
+  m.skin = msd::make_skin_membrane(m.rest_positions, faces, 3.0e5, 1.0e-3);
+  ASSERT_EQ(m.skin.triangles.size(), faces.size());
+  msd::Points x, v;
+  deform(m, 0.8, 0.002, x, v);
+  msd::State s = msd::rest_state(m);
+  s.x = x;
+  const msd::Controls c = at_rest(m);
+  msd::Scratch scratch;
+  const msd::SystemLayout L = msd::make_system_layout(m);
+  Eigen::SparseMatrix<double> K = L.pattern;
+  msd::assemble_system(m, L, s.x, s.v, s.joints, c, 0.0, 0.0, 1.0, K);
+  const Eigen::Index n = 3 * m.num_nodes();
+  auto differences = [&](const msd::Model& model) {
+    Eigen::MatrixXd J(n, n);
+    const double h = 1e-8;
+    msd::State y = s;
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const double keep = y.x.data()[k];
+      y.x.data()[k] = keep + h;
+      msd::evaluate_forces(model, y, c, scratch);
+      const msd::Points up = scratch.f;
+      y.x.data()[k] = keep - h;
+      msd::evaluate_forces(model, y, c, scratch);
+      y.x.data()[k] = keep;
+      J.col(k) = (Eigen::Map<const Eigen::VectorXd>(up.data(), n) - Eigen::Map<const Eigen::VectorXd>(scratch.f.data(), n)) / (2 * h);
+    }
+    return J;
+  };
+  const Eigen::MatrixXd Kfd = differences(m);
+  EXPECT_LT((Eigen::MatrixXd(K) - Kfd).cwiseAbs().maxCoeff(), 1e-6 * Kfd.cwiseAbs().maxCoeff());
+  msd::Model bare = m;
+  bare.skin = {};
+  EXPECT_GT((Kfd - differences(bare)).cwiseAbs().maxCoeff(), 0.2 * Kfd.cwiseAbs().maxCoeff());  // the skin matters
+}
+
 TEST(Implicit, AStiffStrandStaysBoundedAtAStepWhereSymplecticEulerBlowsUp) {
   // Tendon-like stiffness: k_t = E A / L0 with E = 1.2 GPa, A = 2e-5 m^2 and
   // L0 = 2 cm, on nodes of about 0.1 g: sqrt(m / k) is about 14 microseconds.

@@ -13,6 +13,8 @@
 //    (msd/forces/muscle_units.hpp); activation 0 adds nothing. A Hill
 //    muscle's units pull with the Hill law's tension at their length and
 //    lengthening rate (its passive element also at activation 0).
+//  - The skin membrane (Model::skin, msd/forces/skin_membrane.hpp) pulls its
+//    surface triangles back towards their rest shape.
 #pragma once
 
 #include "msd/model/model.hpp"
@@ -35,7 +37,7 @@ Vec3 group_point(const Model& model, int group, const Vec3& rest, const Points& 
 /// The natural length of strand s under `controls`.
 double strand_natural_length(const Model& model, size_t strand, const Controls& controls);
 
-/// Adds the strands' and muscles' forces at positions x and velocities v
+/// Adds the strands', muscles' and skin's forces at positions x and velocities v
 /// (3 x N) to scratch.f and records scratch.strand_tension, strand_strain and
 /// anchor_force (sized to the strands; no allocation once sized).
 void add_part_forces(const Model& model, const Points& x, const Points& v, const std::vector<HingeState>& joints,

@@ -42,6 +42,9 @@ struct SystemLayout {
   std::vector<int> strand_block_offset, strand_block;
   /// Per muscle unit (muscles in order, units in order): its (a, b) and (b, a) blocks.
   std::vector<int> unit_block;
+  /// Per skin triangle k (Model::skin), the blocks of its node pairs (i, j) at
+  /// skin_block[9 k + 3 i + j].
+  std::vector<int> skin_block;
   /// Per volume group g of the continuum element (Model::volume_groups), the
   /// blocks of its node pairs (i, j), m x m row-major (m its node count), at
   /// group_block[group_block_offset[g] + i m + j].

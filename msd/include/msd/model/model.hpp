@@ -8,6 +8,7 @@
 #include "msd/contact/self_contact.hpp"
 #include "msd/core/types.hpp"
 #include "msd/forces/muscle_units.hpp"
+#include "msd/forces/skin_membrane.hpp"
 #include "msd/forces/stable_neo_hookean.hpp"
 #include "msd/material/tissue_material.hpp"
 #include "msd/mesh/tet_mesh.hpp"
@@ -229,6 +230,9 @@ struct Model {
   std::vector<Strand> strands;
   std::vector<Muscle> muscles;
   std::vector<Joint> joints;
+  /// The skin, a membrane on the limb's outer surface triangles
+  /// (msd/forces/skin_membrane.hpp); empty: none.
+  SkinMembrane skin;
   std::optional<SelfContactRegion> self_contact;
   std::vector<Tet> contact_tets;      ///< the elements' nodes (for self_contact)
   std::vector<char> kinematic;        ///< per node: in a kinematic group (for self_contact)

@@ -103,6 +103,13 @@ struct LegModelOptions {
   double joint_damping = 0.0;          ///< b, N m s / rad
   double limit_stiffness = 0.0;        ///< k, N m / rad
   double passive_lo = 0.0, passive_hi = 2.0;  ///< rad
+  /// The skin (issue 18, item 4): a membrane on the limb's outer surface
+  /// triangles (msd/forces/skin_membrane.hpp) of this Young's modulus (Pa) and
+  /// thickness (m). Unset: none (the thesis).
+  struct Skin {
+    double youngs_modulus = 0.0, thickness = 0.0;
+  };
+  std::optional<Skin> skin;
   /// Skin against skin behind the knee (thesis 5.6): the box tested, split at
   /// the knee's centre across the leg's axis. None: no collision work.
   std::optional<std::pair<Vec3, Vec3>> knee_contact_box;
