@@ -17,11 +17,23 @@ Mat32 edges(const MembraneTriangle& t, const Points& x) {
   return d;
 }
 
-// P / (h mu) = F - F C^-1 / J2.
-Mat32 stress_over_modulus(const Mat32& F) {
-  const Eigen::Matrix2d C = F.transpose() * F;
-  const double j2 = C.determinant();
-  return F - F * C.inverse() / j2;
+// adj C = J2 C^-1 of a symmetric 2 x 2 matrix (linear in C).
+Eigen::Matrix2d adjugate(const Eigen::Matrix2d& c) {
+  Eigen::Matrix2d a;
+  a << c(1, 1), -c(0, 1), -c(1, 0), c(0, 0);
+  return a;
+}
+
+// g(J2) (1/J2 above s = floor^2, its Taylor polynomial below) and its first
+// two derivatives.
+struct G {
+  double g, d1, d2;
+};
+G g_of(double j2, double floor) {
+  const double s = floor * floor;
+  if (j2 >= s) return {1.0 / j2, -1.0 / (j2 * j2), 2.0 / (j2 * j2 * j2)};
+  const double d = j2 - s;
+  return {1.0 / s - d / (s * s) + d * d / (s * s * s), -1.0 / (s * s) + 2.0 * d / (s * s * s), 2.0 / (s * s * s)};
 }
 
 }  // namespace
@@ -66,7 +78,7 @@ double membrane_energy(const SkinMembrane& skin, const Points& x) {
   for (const MembraneTriangle& t : skin.triangles) {
     const Mat32 F = edges(t, x) * t.rest_inverse;
     const Eigen::Matrix2d C = F.transpose() * F;
-    w += t.rest_area * (C.trace() + 1.0 / C.determinant() - 3.0);
+    w += t.rest_area * (C.trace() + g_of(C.determinant(), skin.area_floor).g - 3.0);
   }
   return 0.5 * skin.shear_modulus * skin.thickness * w;
 }
@@ -75,7 +87,9 @@ void add_membrane_forces(const SkinMembrane& skin, const Points& x, Points& f) {
   const double hmu = skin.shear_modulus * skin.thickness;
   for (const MembraneTriangle& t : skin.triangles) {
     const Mat32 F = edges(t, x) * t.rest_inverse;
-    const Mat32 g = (hmu * t.rest_area) * stress_over_modulus(F) * t.rest_inverse.transpose();  // dW/dD_s
+    const Eigen::Matrix2d C = F.transpose() * F;
+    const Mat32 P = F + g_of(C.determinant(), skin.area_floor).d1 * (F * adjugate(C));  // / (h mu)
+    const Mat32 g = (hmu * t.rest_area) * P * t.rest_inverse.transpose();  // dW/dD_s
     f.col(t.nodes[1]) -= g.col(0);
     f.col(t.nodes[2]) -= g.col(1);
     f.col(t.nodes[0]) += g.col(0) + g.col(1);
@@ -87,9 +101,9 @@ Mat9 membrane_triangle_stiffness(const SkinMembrane& skin, size_t k, const Point
   const double c = skin.shear_modulus * skin.thickness * t.rest_area;
   const Mat32 F = edges(t, x) * t.rest_inverse;
   const Eigen::Matrix2d C = F.transpose() * F;
-  const Eigen::Matrix2d Ci = C.inverse();
-  const double j2 = C.determinant();
-  const Mat32 FCi = F * Ci;
+  const Eigen::Matrix2d A = adjugate(C);
+  const G gj = g_of(C.determinant(), skin.area_floor);
+  const Mat32 FA = F * A;
   Mat9 K;
   // Column (3 j + a): the forces' change for a unit move of node j along axis a.
   for (int j = 0; j < 3; ++j)
@@ -99,7 +113,7 @@ Mat9 membrane_triangle_stiffness(const SkinMembrane& skin, size_t k, const Point
       else dDs(a, j - 1) = 1.0;
       const Mat32 dF = dDs * t.rest_inverse;
       const Eigen::Matrix2d dC = dF.transpose() * F + F.transpose() * dF;
-      const Mat32 dP = dF - dF * Ci / j2 + FCi * dC * Ci / j2 + FCi * ((Ci * dC).trace() / j2);
+      const Mat32 dP = dF + gj.d1 * (dF * A + F * adjugate(dC)) + (gj.d2 * (A * dC).trace()) * FA;
       const Mat32 dg = c * dP * t.rest_inverse.transpose();
       const int col = 3 * j + a;
       K.block<3, 1>(0, col) = dg.col(0) + dg.col(1);

@@ -272,7 +272,7 @@ TEST(ForceEngine, AStepAllocatesNothingAfterTheFirst) {
 TEST(ForceEngine, TheLegsStepAllocatesNothingAfterTheFirst) {
   // The shipped leg with every moving part at work: anchored, pre-tensioned
   // tendons, both muscles active, the knee dynamic, skin against skin behind
-  // the knee and a rigid plane under the sole.
+  // the knee, a rigid plane under the sole and the skin membrane.
   msd::LimbMeshOptions mo;
   mo.spacing = 0.0245;
   const msd::MeshedLeg meshed = msd::mesh_leg(std::string(TISSUEBENCH_DATA_DIR) + "/leg", mo);
@@ -296,8 +296,10 @@ TEST(ForceEngine, TheLegsStepAllocatesNothingAfterTheFirst) {
   floor.object.plane.point = msd::Vec3(0, 0, meshed.mesh.mesh.nodes.row(2).minCoeff() - 0.001);
   floor.object.plane.normal = msd::Vec3::UnitZ();
   o.obstacles = {floor};
+  o.skin = msd::LegModelOptions::Skin{0.42e6, 1.5e-3};
   const msd::LegModel leg = msd::build_leg_model(meshed.mesh, meshed.tendons, o);
   ASSERT_TRUE(leg.tissue.self_contact.has_value());
+  ASSERT_FALSE(leg.tissue.skin.empty());
   ASSERT_TRUE(std::any_of(leg.strands.begin(), leg.strands.end(), [](const msd::LegStrand& s) { return s.anchored; }));
   msd::LegState s = msd::leg_rest_state(leg, 0.3);
   msd::LegControls c;

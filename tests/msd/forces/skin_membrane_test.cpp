@@ -70,7 +70,7 @@ TEST(SkinMembrane, EquibiaxialStretchFollowsTheIncompressibleSheetsClosedForm) {
   const Vec3 c = x0.rowwise().mean();
   const Points r = x0.colwise() - c;
   const double mu = kE / 3.0;
-  for (double l : {0.6, 0.9, 1.0 + 1e-6, 1.3, 2.0}) {
+  for (double l : {0.75, 0.9, 1.0 + 1e-6, 1.3, 2.0}) {  // area ratios above the floor (0.5)
     const Points x = (l * r).colwise() + c;
     const double w = 0.5 * area * kH * mu * (2 * l * l + std::pow(l, -4) - 3);
     EXPECT_NEAR(msd::membrane_energy(s, x), w, 1e-10 * std::max(w, 1e-12)) << "l " << l;
@@ -86,11 +86,20 @@ TEST(SkinMembrane, EquibiaxialStretchFollowsTheIncompressibleSheetsClosedForm) {
   }
 }
 
+// Deformed states: random moves of up to 6 mm, and the same squeezed to 0.55
+// of the size (area ratio 0.3, below the floor).
+Points deformed_state(const Points& x0, unsigned seed) {
+  const Points x = randomly_moved(x0, 0.006, seed);
+  if (seed % 2) return x;
+  const Vec3 c = x.rowwise().mean();
+  return ((0.55 * (x.colwise() - c)).colwise() + c).eval();
+}
+
 TEST(SkinMembrane, ForcesAreMinusTheGradientOfTheEnergy) {
   const Points x0 = rest_patch();
   const msd::SkinMembrane s = msd::make_skin_membrane(x0, kFaces, kE, kH);
-  for (unsigned seed : {1u, 2u, 3u}) {
-    const Points x = randomly_moved(x0, 0.006, seed);
+  for (unsigned seed : {1u, 2u, 3u, 4u}) {
+    const Points x = deformed_state(x0, seed);
     const Points f = forces(s, x);
     const double scale = f.cwiseAbs().maxCoeff();
     ASSERT_GT(scale, 1.0);  // a real deformation: newtons on 2 cm of skin
@@ -110,8 +119,8 @@ TEST(SkinMembrane, ForcesAreMinusTheGradientOfTheEnergy) {
 TEST(SkinMembrane, EachTrianglesStiffnessIsTheDerivativeOfItsForces) {
   const Points x0 = rest_patch();
   const msd::SkinMembrane s = msd::make_skin_membrane(x0, kFaces, kE, kH);
-  for (unsigned seed : {4u, 5u}) {
-    const Points x = randomly_moved(x0, 0.006, seed);
+  for (unsigned seed : {5u, 6u}) {
+    const Points x = deformed_state(x0, seed);
     for (size_t k = 0; k < s.triangles.size(); ++k) {
       msd::SkinMembrane one = s;
       one.triangles = {s.triangles[k]};
@@ -152,4 +161,39 @@ TEST(SkinMembrane, BadConstantsAndFacesAreRefusedByName) {
   EXPECT_NE(message(kFaces, kE, -1e-3).find("thickness"), std::string::npos);
   EXPECT_NE(message({{0, 1, 1}}, kE, kH).find("face 0 has zero area"), std::string::npos);
   EXPECT_NE(message({{0, 1, 2}, {0, 1, 7}}, kE, kH).find("face 1 names node 7"), std::string::npos);
+}
+
+TEST(SkinMembrane, BelowItsAreaFloorTheEnergyContinuesSmoothlyAndAFlattenedTriangleStaysFinite) {
+  // Equibiaxial l below a_f = 0.5 in area (l^2 < 0.5): g(J2) is 1/J2's
+  // second-order Taylor polynomial at s = 0.25, so W is continuous with its
+  // slope at the floor, and finite at zero area.
+  const Points x0 = rest_patch();
+  const msd::SkinMembrane s = msd::make_skin_membrane(x0, kFaces, kE, kH);
+  double area = 0.0;
+  for (const auto& t : s.triangles) area += t.rest_area;
+  const Vec3 c = x0.rowwise().mean();
+  auto scaled = [&](double l) { return ((l * (x0.colwise() - c)).colwise() + c).eval(); };
+  const double mu = kE / 3.0, sf = 0.25;
+  for (double l : {0.6, 0.3, 0.0}) {
+    const double j2 = std::pow(l, 4), d = j2 - sf;
+    const double g = 1.0 / sf - d / (sf * sf) + d * d / (sf * sf * sf);
+    const double w = 0.5 * area * kH * mu * (2 * l * l + g - 3);
+    EXPECT_NEAR(msd::membrane_energy(s, scaled(l)), w, 1e-10 * w) << "l " << l;
+  }
+  const double lf = std::sqrt(0.5);  // the floor: both sides meet in value and slope
+  const double h = 1e-6;
+  EXPECT_NEAR(msd::membrane_energy(s, scaled(lf - h)), msd::membrane_energy(s, scaled(lf + h)),
+              1e-4 * msd::membrane_energy(s, scaled(lf)));
+  EXPECT_NEAR(msd::membrane_energy(s, scaled(lf + 2 * h)) - msd::membrane_energy(s, scaled(lf)),
+              msd::membrane_energy(s, scaled(lf)) - msd::membrane_energy(s, scaled(lf - 2 * h)),
+              1e-3 * std::abs(msd::membrane_energy(s, scaled(lf + 2 * h)) - msd::membrane_energy(s, scaled(lf))));
+  // A triangle pressed flat onto a line (its third node on the first two's
+  // line, as a stick contact can leave it): finite forces and stiffness.
+  Points flat = x0;
+  flat.col(2) = x0.col(0) + 0.4 * (x0.col(1) - x0.col(0));
+  msd::SkinMembrane one = s;
+  one.triangles = {s.triangles[0]};
+  EXPECT_TRUE(forces(one, flat).allFinite());
+  EXPECT_TRUE(msd::membrane_triangle_stiffness(one, 0, flat).allFinite());
+  EXPECT_TRUE(std::isfinite(msd::membrane_energy(one, flat)));
 }

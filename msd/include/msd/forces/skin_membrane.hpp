@@ -13,26 +13,37 @@
 //   D_m = the rest edges X_1 - X_0, X_2 - X_0 in the triangle's own 2-D frame
 //         (2 x 2),   D_s = [x_1 - x_0, x_2 - x_0] (3 x 2),
 //   F   = D_s D_m^-1 (3 x 2),   C = F^T F (2 x 2),   J2 = det C  (= the area
-//         ratio squared),
-//   W   = A0 h mu/2 (tr C + 1/J2 - 3)
+//         ratio squared),   adj C = J2 C^-1 = [[C_22, -C_12], [-C_12, C_11]],
+//   W   = A0 h mu/2 (tr C + g(J2) - 3),   g(J2) = 1/J2
 //
 // (incompressible: the thickness stretch is 1/sqrt(J2), so the 3-D neo-Hookean
 // I_1 - 3 becomes tr C + 1/J2 - 3). Linearised at rest this is a plane-stress
 // sheet of Young's modulus E = 3 mu and Poisson's ratio 1/2, so mu = E / 3.
-// Its first Piola-Kirchhoff stress (per unit rest area, times h) and forces:
 //
-//   P   = dW/dF / A0 = h mu (F - F C^-1 / J2),
+// 1/J2 grows without bound as a triangle's area goes to zero, and contact can
+// flatten a triangle onto a line (a node pressed onto an obstacle's surface).
+// Below the area ratio a_f (SkinMembrane::area_floor, 0.5: J2 below s = a_f^2)
+// g continues as its second-order Taylor polynomial at s,
+//   g(J2) = 1/s - (J2 - s)/s^2 + (J2 - s)^2/s^3,
+// so the energy, forces and stiffness stay finite for every position (a skin
+// compressed to half its area would have wrinkled long before: real skin
+// carries little in-plane compression).
+//
+// Its first Piola-Kirchhoff stress (per unit rest area, times h) and forces,
+// with dJ2/dF = 2 F adj C:
+//
+//   P   = dW/dF / A0 = h mu (F + g'(J2) F adj C),
 //   f_1, f_2 = the columns of -A0 P D_m^-T,   f_0 = -(f_1 + f_2),
 //
-// and its stiffness from
-//   dP  = h mu [dF - dF C^-1/J2 + F C^-1 dC C^-1 / J2 + F C^-1 tr(C^-1 dC) / J2],
+// and its stiffness from (adj is linear on symmetric 2 x 2 matrices)
+//   dP  = h mu [dF + g' (dF adj C + F adj dC) + g'' tr(adj C dC) F adj C],
 //   dC  = dF^T F + F^T dF,
 // a 9 x 9 block per triangle, the Hessian of W (symmetric; indefinite under
 // in-plane compression, where a real membrane would wrinkle).
 //
 // Equibiaxial stretch l (C = l^2 I) gives W = A0 h mu/2 (2 l^2 + l^-4 - 3) and
 // the Cauchy stress mu (l^2 - l^-4) (Green & Adkins): the closed forms the
-// tests check.
+// tests check (above the floor).
 #pragma once
 
 #include "msd/core/types.hpp"
@@ -57,6 +68,7 @@ struct SkinMembrane {
   std::vector<MembraneTriangle> triangles;
   double shear_modulus = 0.0;  ///< mu = E / 3, Pa
   double thickness = 0.0;      ///< h, m
+  double area_floor = 0.5;     ///< a_f: below this area ratio g(J2) continues as a polynomial (above)
   bool empty() const { return triangles.empty(); }
 };
 
