@@ -382,18 +382,18 @@ TEST(LegScene, TheSkinIsReadFromMaterialsAndANonPositiveOrPartialSkinIsRefused) 
   auto with_skin = [&](const std::string& skin, const std::string& name) {
     return variant_of("gravity", mat, mat + skin, dir + "/" + name + ".yaml");
   };
-  const leg::LegScene s = leg::read_leg_scene(with_skin("  skin: {youngs_modulus: 0.42e6, thickness: 1.5e-3}\n", "skin"));
+  const leg::LegScene s = leg::read_leg_scene(with_skin("  skin: {youngs_modulus: 129e3, thickness: 1.55e-3}\n", "skin"));
   ASSERT_TRUE(s.model.skin.has_value());
-  EXPECT_DOUBLE_EQ(s.model.skin->youngs_modulus, 0.42e6);
-  EXPECT_DOUBLE_EQ(s.model.skin->thickness, 1.5e-3);
+  EXPECT_DOUBLE_EQ(s.model.skin->youngs_modulus, 129e3);
+  EXPECT_DOUBLE_EQ(s.model.skin->thickness, 1.55e-3);
   EXPECT_FALSE(leg::read_leg_scene(scenes() + "gravity.yaml").model.skin.has_value());  // none: the thesis
   auto refused = [&](const std::string& skin, const std::string& name, const std::string& field) {
     const std::string e = error_of(with_skin(skin, name));
     EXPECT_NE(e.find(name + ".yaml:"), std::string::npos) << e;
     EXPECT_NE(e.find(field), std::string::npos) << e;
   };
-  refused("  skin: {youngs_modulus: 0, thickness: 1.5e-3}\n", "skin_zero", "youngs_modulus");
-  refused("  skin: {youngs_modulus: 0.42e6, thickness: -1e-3}\n", "skin_negative", "thickness");
-  refused("  skin: {youngs_modulus: 0.42e6}\n", "skin_partial", "thickness");
-  refused("  skin: {youngs_modulus: 0.42e6, thickness: 1.5e-3, density: 1100}\n", "skin_density", "density");
+  refused("  skin: {youngs_modulus: 0, thickness: 1.55e-3}\n", "skin_zero", "youngs_modulus");
+  refused("  skin: {youngs_modulus: 129e3, thickness: -1e-3}\n", "skin_negative", "thickness");
+  refused("  skin: {youngs_modulus: 129e3}\n", "skin_partial", "thickness");
+  refused("  skin: {youngs_modulus: 129e3, thickness: 1.55e-3, density: 1100}\n", "skin_density", "density");
 }

@@ -296,7 +296,7 @@ TEST(ForceEngine, TheLegsStepAllocatesNothingAfterTheFirst) {
   floor.object.plane.point = msd::Vec3(0, 0, meshed.mesh.mesh.nodes.row(2).minCoeff() - 0.001);
   floor.object.plane.normal = msd::Vec3::UnitZ();
   o.obstacles = {floor};
-  o.skin = msd::LegModelOptions::Skin{0.42e6, 1.5e-3};
+  o.skin = msd::LegModelOptions::Skin{129e3, 1.55e-3};  // benchmarks/materials.yaml's skin
   const msd::LegModel leg = msd::build_leg_model(meshed.mesh, meshed.tendons, o);
   ASSERT_TRUE(leg.tissue.self_contact.has_value());
   ASSERT_FALSE(leg.tissue.skin.empty());

@@ -15,9 +15,10 @@ using msd::Vec3;
 
 namespace {
 
-// Published in-vivo skin (the scale of the constants the leg uses): E = 0.42 MPa
-// (Agache et al. 1980), h = 1.5 mm.
-constexpr double kE = 0.42e6, kH = 1.5e-3;
+// Published in-vivo skin (benchmarks/materials.yaml's `skin`): E = 129 kPa
+// (Diridollou et al. 2000, suction fitted with a membrane model), h = 1.55 mm
+// (Laurent et al. 2007, the thigh).
+constexpr double kE = 129e3, kH = 1.55e-3;
 
 // Two triangles sharing an edge, not in a coordinate plane, of edge ~2 cm.
 Points rest_patch() {
@@ -102,7 +103,7 @@ TEST(SkinMembrane, ForcesAreMinusTheGradientOfTheEnergy) {
     const Points x = deformed_state(x0, seed);
     const Points f = forces(s, x);
     const double scale = f.cwiseAbs().maxCoeff();
-    ASSERT_GT(scale, 1.0);  // a real deformation: newtons on 2 cm of skin
+    ASSERT_GT(scale, 0.1);  // a real deformation: tenths of a newton on 2 cm of skin
     const double h = 1e-8;
     for (int i = 0; i < 4; ++i)
       for (int a = 0; a < 3; ++a) {

@@ -536,14 +536,15 @@ TEST(LegModel, AThighSwungForwardFromTheHipLeavesTheLowerLegBehindAndTheKneeFlex
 }
 
 TEST(LegModel, TheSkinIsAClosedMembraneOnTheOuterSurfaceAndHoldsTheStandingThighsFleshUp) {
-  // The skin (issue 18, item 4) at in-vivo constants (Agache et al. 1980's
-  // 0.42 MPa, 1.5 mm) over flesh and muscle at benchmarks/materials.yaml's.
+  // The skin (issue 18, item 4) at benchmarks/materials.yaml's in-vivo
+  // constants (E = 129 kPa, Diridollou et al. 2000; h = 1.55 mm, Laurent et
+  // al. 2007) over flesh and muscle at the same file's.
   msd::LegModelOptions with = options();
-  with.skin = msd::LegModelOptions::Skin{0.42e6, 1.5e-3};
+  with.skin = msd::LegModelOptions::Skin{129e3, 1.55e-3};
   const msd::LegModel leg = msd::build_leg_model(shipped().mesh, shipped().tendons, with);
   const msd::SkinMembrane& skin = leg.tissue.skin;
   ASSERT_GT(skin.triangles.size(), 500u);
-  EXPECT_DOUBLE_EQ(skin.shear_modulus, 0.42e6 / 3.0);
+  EXPECT_DOUBLE_EQ(skin.shear_modulus, 129e3 / 3.0);
   // Closed: every edge of the membrane is shared by an even number of its
   // triangles (two, or four where the surface pinches), so no edge is free.
   std::map<std::pair<int, int>, int> uses;
