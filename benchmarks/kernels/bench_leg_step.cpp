@@ -3,7 +3,9 @@
 // nothing but tissue, tendons and muscles; skin-against-skin contact in the
 // box behind the knee (the scenes' region) or over the whole leg; a rigid
 // cylinder tested against the skin nodes in its box or against every skin
-// node (the rod held clear of the leg, so what differs is the testing). The knee is held bent at 95 degrees (scripted), where the crease
+// node (the rod held clear of the leg, so what differs is the testing); or the
+// skin membrane on the leg's outer surface (msd/forces/skin_membrane.hpp, at
+// benchmarks/materials.yaml's skin), no contact. The knee is held bent at 95 degrees (scripted), where the crease
 // touches, so the contact tests do their real work. The ratios in
 // benchmarks/results/2026-12-01-kernels-and-leg.md ("collisions only where a scene says") are of these
 // figures, measured in one run. The second argument picks the force path:
@@ -49,7 +51,7 @@ msd::LegModelOptions options(double tendon_modulus) {
   return o;
 }
 
-enum Contact { kNone, kKneeBox, kKneeWholeLeg, kRodBox, kRodAllSkin };
+enum Contact { kNone, kKneeBox, kKneeWholeLeg, kRodBox, kRodAllSkin, kSkinMembrane };
 
 void BM_LegStep(benchmark::State& state) {
   msd::LegModelOptions o = options(36.4e6);
@@ -65,6 +67,7 @@ void BM_LegStep(benchmark::State& state) {
     if (contact == kRodBox) rod.box = std::make_pair(msd::Vec3(0.0, -0.08, 0.08), msd::Vec3(0.12, 0.08, 0.3));
     o.obstacles = {rod};
   }
+  if (contact == kSkinMembrane) o.skin = msd::LegModelOptions::Skin{129e3, 1.55e-3};
   msd::LegModel model = msd::build_leg_model(leg().mesh, leg().tendons, o);
   // Second argument: 0 the per-tet reference forces, n > 0 the engine on n threads.
   model.tissue.reference_forces = state.range(1) == 0;
@@ -97,6 +100,9 @@ BENCHMARK(BM_LegStep)
     ->Args({kKneeWholeLeg, 1})
     ->Args({kRodBox, 1})
     ->Args({kRodAllSkin, 1})
+    ->Args({kSkinMembrane, 0})
+    ->Args({kSkinMembrane, 1})
+    ->Args({kSkinMembrane, 2})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
 

@@ -392,8 +392,8 @@ TEST(LegScene, TheSkinIsReadFromMaterialsAndANonPositiveOrPartialSkinIsRefused) 
     EXPECT_NE(e.find(name + ".yaml:"), std::string::npos) << e;
     EXPECT_NE(e.find(field), std::string::npos) << e;
   };
-  refused("  skin: {youngs_modulus: 0, thickness: 1.55e-3}\n", "skin_zero", "youngs_modulus");
-  refused("  skin: {youngs_modulus: 129e3, thickness: -1e-3}\n", "skin_negative", "thickness");
+  refused("  skin: {youngs_modulus: 0, thickness: 1.55e-3}\n", "skin_zero", "materials.skin.youngs_modulus");
+  refused("  skin: {youngs_modulus: 129e3, thickness: -1e-3}\n", "skin_negative", "materials.skin.thickness");
   refused("  skin: {youngs_modulus: 129e3}\n", "skin_partial", "thickness");
   refused("  skin: {youngs_modulus: 129e3, thickness: 1.55e-3, density: 1100}\n", "skin_density", "density");
 }

@@ -88,7 +88,7 @@ void add_part_forces(const Model& model, const Points& x, const Points& v, const
     else if (a > 0.0)
       add_muscle_forces(x, mu.units, a * mu.unit_force, f, mu.force_length);
   }
-  if (!model.skin.empty()) add_membrane_forces(model.skin, x, f);
+  if (!model.skin.empty()) add_membrane_forces(model.skin, x, f, model.threads, scratch.skin_corner_force);
 }
 
 }  // namespace msd

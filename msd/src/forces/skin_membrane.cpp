@@ -83,17 +83,30 @@ double membrane_energy(const SkinMembrane& skin, const Points& x) {
   return 0.5 * skin.shear_modulus * skin.thickness * w;
 }
 
-void add_membrane_forces(const SkinMembrane& skin, const Points& x, Points& f) {
+void add_membrane_forces(const SkinMembrane& skin, const Points& x, Points& f, int threads, Points& corner) {
   const double hmu = skin.shear_modulus * skin.thickness;
-  for (const MembraneTriangle& t : skin.triangles) {
+  const long n = static_cast<long>(skin.triangles.size());
+  if (corner.cols() != 3 * n) corner.resize(3, 3 * n);
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
+  for (long k = 0; k < n; ++k) {
+    const MembraneTriangle& t = skin.triangles[static_cast<size_t>(k)];
     const Mat32 F = edges(t, x) * t.rest_inverse;
     const Eigen::Matrix2d C = F.transpose() * F;
     const Mat32 P = F + g_of(C.determinant(), skin.area_floor).d1 * (F * adjugate(C));  // / (h mu)
     const Mat32 g = (hmu * t.rest_area) * P * t.rest_inverse.transpose();  // dW/dD_s
-    f.col(t.nodes[1]) -= g.col(0);
-    f.col(t.nodes[2]) -= g.col(1);
-    f.col(t.nodes[0]) += g.col(0) + g.col(1);
+    corner.col(3 * k) = g.col(0) + g.col(1);
+    corner.col(3 * k + 1) = -g.col(0);
+    corner.col(3 * k + 2) = -g.col(1);
   }
+  for (long k = 0; k < n; ++k) {
+    const MembraneTriangle& t = skin.triangles[static_cast<size_t>(k)];
+    for (int i = 0; i < 3; ++i) f.col(t.nodes[static_cast<size_t>(i)]) += corner.col(3 * k + i);
+  }
+}
+
+void add_membrane_forces(const SkinMembrane& skin, const Points& x, Points& f) {
+  Points corner;
+  add_membrane_forces(skin, x, f, 1, corner);
 }
 
 Mat9 membrane_triangle_stiffness(const SkinMembrane& skin, size_t k, const Points& x) {

@@ -219,6 +219,16 @@ void check_model_parts(Model& model) {
       model.kinematic[static_cast<size_t>(node)] = 1;
     }
   }
+  for (size_t k = 0; k < model.skin.triangles.size(); ++k) {
+    const MembraneTriangle& t = model.skin.triangles[k];
+    for (int node : t.nodes)
+      if (!node_ok(node)) throw Error("skin triangle " + std::to_string(k) + " refers to node " + std::to_string(node) + " of " + std::to_string(n));
+    if (!(t.rest_area > 0.0) || !t.rest_inverse.allFinite())
+      throw Error("skin triangle " + std::to_string(k) + " has no rest area");
+  }
+  if (!model.skin.empty() && (!(model.skin.shear_modulus > 0.0) || !(model.skin.thickness > 0.0) ||
+                              !(model.skin.area_floor > 0.0 && model.skin.area_floor <= 1.0)))
+    throw Error("skin: shear modulus and thickness must be positive and the area floor in (0, 1]");
   for (size_t s = 0; s < model.strands.size(); ++s) {
     const Strand& st = model.strands[s];
     const std::string where = "strand " + std::to_string(s);

@@ -182,6 +182,25 @@ std::vector<Tri> skin_faces(const LimbMesh& m, const TetMesh& tissue_mesh, const
   return faces;
 }
 
+// The skin membrane's faces: the outer faces but those lying in the limb's two
+// end planes across its axis - the cut at the hip and the one at the bottom,
+// where real skin does not close the limb but continues into the body and foot.
+std::vector<Tri> membrane_faces(const std::vector<Tri>& skin, const Points& rest, const Vec3& axis) {
+  const Vec3 a = axis.normalized();
+  const Eigen::VectorXd h = rest.transpose() * a;
+  const double lo = h.minCoeff(), hi = h.maxCoeff(), tol = 1e-6 * (hi - lo);
+  std::vector<Tri> faces;
+  for (const Tri& f : skin) {
+    bool top = true, bottom = true;
+    for (int v : f) {
+      top = top && h[v] > hi - tol;
+      bottom = bottom && h[v] < lo + tol;
+    }
+    if (!top && !bottom) faces.push_back(f);
+  }
+  return faces;
+}
+
 // Skin against skin behind the knee (thesis 5.6): the region in the scene's
 // box and its largest correction.
 void build_knee_contact(const LimbMesh& m, const TetMesh& tissue_mesh, const std::vector<Tri>& skin,
@@ -326,7 +345,8 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
   build_obstacles(m, skin, o, leg);
   if (o.skin) {
     try {
-      leg.tissue.skin = make_skin_membrane(leg.tissue.rest_positions, skin, o.skin->youngs_modulus, o.skin->thickness);
+      leg.tissue.skin = make_skin_membrane(leg.tissue.rest_positions, membrane_faces(skin, leg.tissue.rest_positions, o.leg_axis),
+                                           o.skin->youngs_modulus, o.skin->thickness);
     } catch (const Error& e) {
       throw Error(std::string("leg: ") + e.what());
     }

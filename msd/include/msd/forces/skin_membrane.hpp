@@ -82,7 +82,13 @@ SkinMembrane make_skin_membrane(const Points& rest, const std::vector<Tri>& face
 /// The membrane's elastic energy at positions x (3 x N), J.
 double membrane_energy(const SkinMembrane& skin, const Points& x);
 
-/// Adds the membrane's forces at x to f (3 x N). No allocation.
+/// Adds the membrane's forces at x to f (3 x N). Each triangle's corner forces
+/// are computed on `threads` threads into `corner` (3 x 3T: triangle k's
+/// corners at columns 3k ... 3k+2; resized only when its size differs), then
+/// added to f in triangle order, so f is bit-identical for every thread count.
+void add_membrane_forces(const SkinMembrane& skin, const Points& x, Points& f, int threads, Points& corner);
+
+/// The same on one thread with a buffer of its own (allocates; for tests and tools).
 void add_membrane_forces(const SkinMembrane& skin, const Points& x, Points& f);
 
 /// Triangle k's stiffness df/dx at x (9 x 9; block (i, j) = df_i / dx_j over

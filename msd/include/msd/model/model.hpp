@@ -342,6 +342,7 @@ struct Scratch {
   long nonlinear_active = 0;       ///< elements whose non-linear terms ran
   Points edge_force;               ///< 3 x E: force on each edge's node a (b gets minus)
   Points corner_force;             ///< 3 x 4T: non-linear force on each tet corner
+  Points skin_corner_force;        ///< 3 x 3T: the skin membrane's force on each triangle corner
   std::vector<double> group_pressure;  ///< per volume group: lambda (Jbar - alpha), Pa
   /// The implicit integrator's matrix, factorisation and vectors (made on its
   /// first step, then reused).

@@ -105,7 +105,8 @@ struct LegModelOptions {
   double passive_lo = 0.0, passive_hi = 2.0;  ///< rad
   /// The skin (issue 18, item 4): a membrane on the limb's outer surface
   /// triangles (msd/forces/skin_membrane.hpp) of this Young's modulus (Pa) and
-  /// thickness (m). Unset: none (the thesis).
+  /// thickness (m), but not on the two end planes across leg_axis (the cuts at
+  /// the hip and at the bottom, where skin continues). Unset: none (the thesis).
   struct Skin {
     double youngs_modulus = 0.0, thickness = 0.0;
   };
