@@ -39,6 +39,19 @@ Points forces(const msd::SkinMembrane& s, const Points& x) {
   return f;
 }
 
+// x scaled by l about its centroid (equibiaxial stretch of a flat patch's
+// triangles, and a squeeze of any).
+Points scaled_about_centroid(const Points& x, double l) {
+  const Vec3 c = x.rowwise().mean();
+  return ((l * (x.colwise() - c)).colwise() + c).eval();
+}
+
+double total_rest_area(const msd::SkinMembrane& s) {
+  double area = 0.0;
+  for (const auto& t : s.triangles) area += t.rest_area;
+  return area;
+}
+
 Points randomly_moved(const Points& x, double amount, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -68,13 +81,11 @@ TEST(SkinMembrane, EquibiaxialStretchFollowsTheIncompressibleSheetsClosedForm) {
   // (area A0 l^2, thickness h l^-2): -2 sigma A0 h / l.
   const Points x0 = rest_patch();
   const msd::SkinMembrane s = msd::make_skin_membrane(x0, kFaces, kE, kH);
-  double area = 0.0;
-  for (const auto& t : s.triangles) area += t.rest_area;
-  const Vec3 c = x0.rowwise().mean();
-  const Points r = x0.colwise() - c;
+  const double area = total_rest_area(s);
+  const Points r = x0.colwise() - x0.rowwise().mean();
   const double mu = kE / 3.0;
   for (double l : {0.75, 0.9, 1.0 + 1e-6, 1.3, 2.0}) {  // area ratios above the floor (0.5)
-    const Points x = (l * r).colwise() + c;
+    const Points x = scaled_about_centroid(x0, l);
     const double w = 0.5 * area * kH * mu * (2 * l * l + std::pow(l, -4) - 3);
     EXPECT_NEAR(msd::membrane_energy(s, x), w, 1e-10 * std::abs(w) + 1e-12 * area * kH * mu) << "l " << l;
     const Points f = forces(s, x);
@@ -95,9 +106,7 @@ TEST(SkinMembrane, EquibiaxialStretchFollowsTheIncompressibleSheetsClosedForm) {
 // of the size (area ratio 0.3, below the floor).
 Points deformed_state(const Points& x0, unsigned seed) {
   const Points x = randomly_moved(x0, 0.006, seed);
-  if (seed % 2) return x;
-  const Vec3 c = x.rowwise().mean();
-  return ((0.55 * (x.colwise() - c)).colwise() + c).eval();
+  return seed % 2 ? x : scaled_about_centroid(x, 0.55);
 }
 
 // The squeezed states (even seeds) have every triangle below the area floor
@@ -190,10 +199,8 @@ TEST(SkinMembrane, BelowItsAreaFloorTheEnergyContinuesSmoothlyAndAFlattenedTrian
   // slope at the floor, and finite at zero area.
   const Points x0 = rest_patch();
   const msd::SkinMembrane s = msd::make_skin_membrane(x0, kFaces, kE, kH);
-  double area = 0.0;
-  for (const auto& t : s.triangles) area += t.rest_area;
-  const Vec3 c = x0.rowwise().mean();
-  auto scaled = [&](double l) { return ((l * (x0.colwise() - c)).colwise() + c).eval(); };
+  const double area = total_rest_area(s);
+  auto scaled = [&](double l) { return scaled_about_centroid(x0, l); };
   const double mu = kE / 3.0, sf = 0.25;
   for (double l : {0.6, 0.3, 0.0}) {
     const double j2 = std::pow(l, 4), d = j2 - sf;

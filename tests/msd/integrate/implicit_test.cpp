@@ -357,6 +357,27 @@ TEST(Implicit, OneScratchServesTwoModelsWithDifferentConstraints) {
 
 namespace {
 
+// Central differences of evaluate_forces - the tissue and the moving parts,
+// under controls c - along every coordinate of y's positions (or velocities).
+Eigen::MatrixXd fd_jacobian_with_parts(const msd::Model& m, msd::State y, const msd::Controls& c, bool of_velocity,
+                                       double h) {
+  const Eigen::Index n = 3 * m.num_nodes();
+  Eigen::MatrixXd J(n, n);
+  msd::Scratch scratch;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    double* q = (of_velocity ? y.v.data() : y.x.data()) + k;
+    const double keep = *q;
+    *q = keep + h;
+    msd::evaluate_forces(m, y, c, scratch);
+    const msd::Points up = scratch.f;
+    *q = keep - h;
+    msd::evaluate_forces(m, y, c, scratch);
+    *q = keep;
+    J.col(k) = (Eigen::Map<const Eigen::VectorXd>(up.data(), n) - Eigen::Map<const Eigen::VectorXd>(scratch.f.data(), n)) / (2 * h);
+  }
+  return J;
+}
+
 // The block with platens, a three-node strand up its middle anchored on the
 // top platen, a free two-node strand, and a muscle of the vertical edges.
 msd::Model block_with_parts(double k_t) {
@@ -417,19 +438,7 @@ TEST(Implicit, AssembledJacobiansOfStrandsAndMusclesMatchFiniteDifferences) {
   Eigen::SparseMatrix<double> K = L.pattern;
   msd::assemble_system(m, L, s.x, s.v, s.joints, c, 0.0, 0.0, 1.0, K);
   const Eigen::Index n = 3 * m.num_nodes();
-  Eigen::MatrixXd Kfd(n, n);
-  const double h = 1e-8;
-  msd::State y = s;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    const double keep = y.x.data()[k];
-    y.x.data()[k] = keep + h;
-    msd::evaluate_forces(m, y, c, scratch);
-    const msd::Points up = scratch.f;
-    y.x.data()[k] = keep - h;
-    msd::evaluate_forces(m, y, c, scratch);
-    y.x.data()[k] = keep;
-    Kfd.col(k) = (Eigen::Map<const Eigen::VectorXd>(up.data(), n) - Eigen::Map<const Eigen::VectorXd>(scratch.f.data(), n)) / (2 * h);
-  }
+  Eigen::MatrixXd Kfd = fd_jacobian_with_parts(m, s, c, false, 1e-8);
   // Compared on the free degrees of freedom: the anchor is not one (moving a
   // platen node by hand moves the anchor in the differences, never in a step).
   Eigen::MatrixXd diff = Eigen::MatrixXd(K) - Kfd;
@@ -459,32 +468,15 @@ TEST(Implicit, AssembledJacobiansOfTheSkinMembraneMatchFiniteDifferences) {
   msd::State s = msd::rest_state(m);
   s.x = x;
   const msd::Controls c = at_rest(m);
-  msd::Scratch scratch;
   const msd::SystemLayout L = msd::make_system_layout(m);
   Eigen::SparseMatrix<double> K = L.pattern;
   msd::assemble_system(m, L, s.x, s.v, s.joints, c, 0.0, 0.0, 1.0, K);
-  const Eigen::Index n = 3 * m.num_nodes();
-  auto differences = [&](const msd::Model& model) {
-    Eigen::MatrixXd J(n, n);
-    const double h = 1e-8;
-    msd::State y = s;
-    for (Eigen::Index k = 0; k < n; ++k) {
-      const double keep = y.x.data()[k];
-      y.x.data()[k] = keep + h;
-      msd::evaluate_forces(model, y, c, scratch);
-      const msd::Points up = scratch.f;
-      y.x.data()[k] = keep - h;
-      msd::evaluate_forces(model, y, c, scratch);
-      y.x.data()[k] = keep;
-      J.col(k) = (Eigen::Map<const Eigen::VectorXd>(up.data(), n) - Eigen::Map<const Eigen::VectorXd>(scratch.f.data(), n)) / (2 * h);
-    }
-    return J;
-  };
-  const Eigen::MatrixXd Kfd = differences(m);
+  const Eigen::MatrixXd Kfd = fd_jacobian_with_parts(m, s, c, false, 1e-8);
   EXPECT_LT((Eigen::MatrixXd(K) - Kfd).cwiseAbs().maxCoeff(), 1e-6 * Kfd.cwiseAbs().maxCoeff());
   msd::Model bare = m;
   bare.skin = {};
-  EXPECT_GT((Kfd - differences(bare)).cwiseAbs().maxCoeff(), 0.2 * Kfd.cwiseAbs().maxCoeff());  // the skin matters
+  EXPECT_GT((Kfd - fd_jacobian_with_parts(bare, s, c, false, 1e-8)).cwiseAbs().maxCoeff(),
+            0.2 * Kfd.cwiseAbs().maxCoeff());  // the skin matters
 }
 
 TEST(Implicit, AStiffStrandStaysBoundedAtAStepWhereSymplecticEulerBlowsUp) {
@@ -867,21 +859,8 @@ TEST(Implicit, AssembledJacobiansOfToeStrandsAndHillMusclesMatchFiniteDifference
   ASSERT_NEAR(scratch.strand_strain[1], 0.05, 1e-12);
   const msd::SystemLayout L = msd::make_system_layout(m);
   const Eigen::Index n = 3 * m.num_nodes();
-  auto fd = [&](msd::State y, bool velocity) {
-    Eigen::MatrixXd J(n, n);
-    const double h = velocity ? 1e-6 : 1e-8;
-    for (Eigen::Index k = 0; k < n; ++k) {
-      double* q = (velocity ? y.v.data() : y.x.data()) + k;
-      const double keep = *q;
-      *q = keep + h;
-      msd::evaluate_forces(m, y, c, scratch);
-      const msd::Points up = scratch.f;
-      *q = keep - h;
-      msd::evaluate_forces(m, y, c, scratch);
-      *q = keep;
-      J.col(k) = (Eigen::Map<const Eigen::VectorXd>(up.data(), n) - Eigen::Map<const Eigen::VectorXd>(scratch.f.data(), n)) / (2 * h);
-    }
-    return J;
+  auto fd = [&](const msd::State& y, bool velocity) {
+    return fd_jacobian_with_parts(m, y, c, velocity, velocity ? 1e-6 : 1e-8);
   };
   auto free_dofs = [&](Eigen::MatrixXd a) {
     for (Eigen::Index k = 0; k < n; ++k)
