@@ -185,7 +185,7 @@ int cmd_calibrate(const CalibrateArgs& args) {
   };
   const bench::CalibrationResult r = bench::calibrate(args.material, specs, args.out, {}, log,
                                                       args.max_evaluations, args.volume_weight,
-                                                      args.max_damping_evaluations);
+                                                      args.max_damping_evaluations, args.edge_classes);
   const std::string file = (fs::path(args.out) / (args.material + ".yaml")).string();
   bench::write_calibration(r, file);
   std::printf("Calibration of %s: %s after %d iterations, %d evaluations\n", r.material.c_str(),
@@ -194,6 +194,11 @@ int cmd_calibrate(const CalibrateArgs& args) {
   std::printf("%-20s %10.4g %10.4g\n", "stiffness_scale", r.before.stiffness_scale, r.after.stiffness_scale);
   std::printf("%-20s %10.4g %10.4g\n", "repulsion_factor", r.before.repulsion_factor, r.after.repulsion_factor);
   std::printf("%-20s %10.4g %10.4g\n", "volume_factor", r.before.volume_factor, r.after.volume_factor);
+  if (r.after.axis_stiffness) {
+    std::printf("%-20s %10.4g %10.4g\n", "axis_stiffness", *r.before.axis_stiffness, *r.after.axis_stiffness);
+    std::printf("%-20s %10.4g %10.4g\n", "compression_exp.", *r.before.compression_exponent,
+                *r.after.compression_exponent);
+  }
   if (r.damping_fitted)
     std::printf("%-20s %10.4g %10.4g   (stage 2: %s after %d evaluations)\n", "damping_time [s]",
                 r.before.damping_time.value_or(0.0), r.after.damping_time.value_or(0.0), r.damping_status.c_str(),

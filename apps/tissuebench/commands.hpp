@@ -48,6 +48,7 @@ struct CalibrateArgs {
   int max_evaluations = 40;
   int max_damping_evaluations = 20;
   double volume_weight = 2.0;
+  bool edge_classes = false;  ///< also fit the lattice's axis stiffness and compression exponent
   bool quiet = false;
 };
 int cmd_calibrate(const CalibrateArgs& args);

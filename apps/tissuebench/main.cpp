@@ -128,6 +128,9 @@ int dispatch(int argc, char** argv) {
                             "Budget of objective evaluations for the damping fit (stage 2)")
       ->check(app::integer_in(2, 1000, "objective evaluations"))
       ->capture_default_str();
+  calibrate_cmd->add_flag("--edge-classes", calibrate.edge_classes,
+                          "Also fit the lattice's edge classes: the cube edges' stiffness relative to the face "
+                          "diagonals' and the spring law's compression exponent (docs/msd-model.md section 4, edge classes)");
   calibrate_cmd->add_option("--volume-weight", calibrate.volume_weight,
                             "Weight w of the uni-axial volume-ratio residual w (V_msd - V_fem) against the "
                             "relative stress residuals (0: stress only)")

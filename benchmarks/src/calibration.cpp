@@ -32,6 +32,13 @@ Spec with_parameters(const Spec& spec, const CalibrationParameters& p) {
   s.msd->repulsion_factor = p.repulsion_factor;
   s.msd->volume_factor = p.volume_factor;
   if (p.damping_time) s.msd->damping_time = p.damping_time;
+  if (p.axis_stiffness) s.msd->edge_laws[static_cast<size_t>(msd::EdgeClass::axis)].stiffness = *p.axis_stiffness;
+  if (p.compression_exponent)
+    for (msd::EdgeClass c : {msd::EdgeClass::axis, msd::EdgeClass::face_diagonal}) {
+      msd::SpringLaw& law = s.msd->edge_laws[static_cast<size_t>(c)];
+      law.tension_exponent = 1.0;
+      law.compression_exponent = *p.compression_exponent;
+    }
   return s;
 }
 
@@ -159,6 +166,8 @@ struct Fit {
       std::ostringstream s;
       s << std::setprecision(5) << "  evaluation " << *evaluations << ": scale " << p.stiffness_scale
         << ", repulsion " << p.repulsion_factor << ", volume " << p.volume_factor;
+      if (p.axis_stiffness) s << ", axis " << *p.axis_stiffness;
+      if (p.compression_exponent) s << ", n " << *p.compression_exponent;
       if (p.damping_time) s << ", damping_time " << *p.damping_time;
       s << " -> objective " << f.squaredNorm();
       log(s.str());
@@ -201,6 +210,31 @@ Minimum minimise(Fit& fit, Eigen::VectorXd& q, int budget) {
           lm.fnorm * lm.fnorm};
 }
 
+// Stage 1's variables q (the logistic map's inverse of each bounded
+// parameter): scale, repulsion, volume, and with the edge classes the axis
+// stiffness and the compression exponent; and back.
+Eigen::VectorXd elastic_variables(const CalibrationParameters& p, const CalibrationBounds& b) {
+  Eigen::VectorXd q(p.axis_stiffness ? 5 : 3);
+  q.head(3) << inverse_logistic(p.stiffness_scale, b.scale_lo, b.scale_hi),
+      inverse_logistic(p.repulsion_factor, b.repulsion_lo, b.repulsion_hi),
+      inverse_logistic(p.volume_factor, b.volume_lo, b.volume_hi);
+  if (p.axis_stiffness)
+    q.tail(2) << inverse_logistic(*p.axis_stiffness, b.axis_lo, b.axis_hi),
+        inverse_logistic(p.compression_exponent.value_or(0.0), b.exponent_lo, b.exponent_hi);
+  return q;
+}
+
+CalibrationParameters elastic_parameters(const Eigen::VectorXd& q, const CalibrationBounds& b,
+                                         std::optional<double> damping_time) {
+  CalibrationParameters p{logistic(q[0], b.scale_lo, b.scale_hi), logistic(q[1], b.repulsion_lo, b.repulsion_hi),
+                          logistic(q[2], b.volume_lo, b.volume_hi), damping_time, std::nullopt, std::nullopt};
+  if (q.size() == 5) {
+    p.axis_stiffness = logistic(q[3], b.axis_lo, b.axis_hi);
+    p.compression_exponent = logistic(q[4], b.exponent_lo, b.exponent_hi);
+  }
+  return p;
+}
+
 // What a calibration spec's MSD run is fitted to: the load curve (stage 1) or
 // the ring-down's damping ratio (stage 2).
 std::string load_series_of(const Spec& s) {
@@ -220,7 +254,7 @@ std::string load_series_of(const Spec& s) {
 CalibrationResult calibrate(const std::string& material, const std::vector<std::string>& spec_files,
                             const std::string& out_dir, const CalibrationBounds& bounds,
                             const std::function<void(const std::string&)>& log, int max_evaluations,
-                            double volume_weight, int max_damping_evaluations) {
+                            double volume_weight, int max_damping_evaluations, bool edge_classes) {
   if (!(volume_weight >= 0.0)) throw msd::Error("calibration: the volume weight must be >= 0");
   {  // the material first: an unknown name is the user's, not a shipped spec's
     const YAML::Node lib = load_yaml_file(TISSUEBENCH_MATERIALS_FILE, "materials file");
@@ -291,7 +325,11 @@ CalibrationResult calibrate(const std::string& material, const std::vector<std::
   }
   const Spec& first = targets.front().spec;
   res.before = {first.msd->stiffness_scale, first.msd->repulsion_factor, first.msd->volume_factor,
-                first.material.damping_time.value_or(0.0)};
+                first.material.damping_time.value_or(0.0), std::nullopt, std::nullopt};
+  if (edge_classes) {  // the Cauchy-Born isotropic lattice, and a mid-range compression exponent
+    res.before.axis_stiffness = 0.5;
+    res.before.compression_exponent = 1.0;
+  }
 
   auto record = [&](const std::vector<TargetError>& err, bool after) {
     for (const TargetError& t : err) {
@@ -310,17 +348,10 @@ CalibrationResult calibrate(const std::string& material, const std::vector<std::
   // Stage 1: the elastic factors on the quasi-static specs (damping: the material's).
   if (log) log("stage 1: stiffness scale, repulsion and volume factors on the quasi-static specs");
   const int m_quasi_static = static_cast<int>(r.size() - ring_downs.size());  // a ring-down adds one residual
-  Eigen::VectorXd q(3);
-  q << inverse_logistic(res.before.stiffness_scale, bounds.scale_lo, bounds.scale_hi),
-      inverse_logistic(res.before.repulsion_factor, bounds.repulsion_lo, bounds.repulsion_hi),
-      inverse_logistic(res.before.volume_factor, bounds.volume_lo, bounds.volume_hi);
+  Eigen::VectorXd q = elastic_variables(res.before, bounds);
   const std::optional<double> tau0 = res.before.damping_time;
   Fit fit{quasi_static,
-          [&bounds, tau0](const Eigen::VectorXd& x) {
-            return CalibrationParameters{logistic(x[0], bounds.scale_lo, bounds.scale_hi),
-                                         logistic(x[1], bounds.repulsion_lo, bounds.repulsion_hi),
-                                         logistic(x[2], bounds.volume_lo, bounds.volume_hi), tau0};
-          },
+          [&bounds, tau0](const Eigen::VectorXd& x) { return elastic_parameters(x, bounds, tau0); },
           m_quasi_static, &res.evaluations, max_evaluations, log, {}, {}};
   const Minimum m1 = minimise(fit, q, max_evaluations);
   res.optimiser_status = m1.status;
@@ -370,6 +401,11 @@ void write_calibration(const CalibrationResult& r, const std::string& path) {
         << "material: " << r.material << "\n"
         << "parameters:\n  stiffness_scale: " << r.after.stiffness_scale << "\n  repulsion_factor: "
         << r.after.repulsion_factor << "\n  volume_factor: " << r.after.volume_factor << "\n";
+    if (r.after.axis_stiffness)
+      out << "  axis_stiffness: " << *r.after.axis_stiffness
+          << "   # msd.edge_classes.axis.stiffness (face_diagonal: 1)\n  compression_exponent: "
+          << r.after.compression_exponent.value_or(0.0)
+          << "   # msd.edge_classes.{axis,face_diagonal}.compression_exponent (tension_exponent: 1)\n";
     const double tau0 = r.before.damping_time.value_or(0.0);
     if (r.damping_fitted && r.after.damping_time)
       out << "  damping_time: " << *r.after.damping_time << "   # s, msd.damping_time (stage 2; the material's: "
@@ -379,7 +415,11 @@ void write_calibration(const CalibrationResult& r, const std::string& path) {
           << "   # s, not fitted (no ring-down spec): the MSD keeps the material's\n";
     out << "starting_parameters:\n  stiffness_scale: " << r.before.stiffness_scale << "\n  repulsion_factor: "
         << r.before.repulsion_factor << "\n  volume_factor: " << r.before.volume_factor << "\n  damping_time: " << tau0
-        << "\n"
+        << "\n";
+    if (r.before.axis_stiffness)
+      out << "  axis_stiffness: " << *r.before.axis_stiffness << "\n  compression_exponent: "
+          << r.before.compression_exponent.value_or(0.0) << "\n";
+    out
         << "volume_weight: " << r.volume_weight << "\n"
         << "objective: {before: " << r.objective_before << ", after: " << r.objective_after << "}   # stage 1\n"
         << "optimiser: {method: Eigen LevenbergMarquardt (MINPACK lmder), status: \"" << r.optimiser_status

@@ -20,7 +20,8 @@ CalibrationParameters read_calibration(const std::string& path, std::string* mat
           "damping_stage", "specs", "reference", "created"});
   if (material) *material = f.text_or("material", "");
   const tbio::Fields p = f.section("parameters");
-  p.only({"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time"});
+  p.only({"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time", "axis_stiffness",
+          "compression_exponent"});
   CalibrationParameters c;
   c.stiffness_scale = p.positive("stiffness_scale");
   auto non_negative = [&](const std::string& key) {
@@ -31,8 +32,16 @@ CalibrationParameters read_calibration(const std::string& path, std::string* mat
   c.repulsion_factor = non_negative("repulsion_factor");
   c.volume_factor = non_negative("volume_factor");
   if (p.has("damping_time")) c.damping_time = p.non_negative_or("damping_time", 0.0);
+  if (p.has("axis_stiffness") != p.has("compression_exponent"))
+    throw msd::Error(p.where(p.has("axis_stiffness") ? "axis_stiffness" : "compression_exponent") +
+                     "the edge classes' axis_stiffness and compression_exponent come together");
+  if (p.has("axis_stiffness")) {
+    c.axis_stiffness = p.positive("axis_stiffness");
+    c.compression_exponent = non_negative("compression_exponent");
+  }
   if (auto s = f.optional_section("starting_parameters"))
-    s->only({"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time"});
+    s->only({"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time", "axis_stiffness",
+             "compression_exponent"});
   return c;
 }
 
@@ -53,6 +62,13 @@ void apply_calibration(Spec& spec, const std::string& file, const std::string& w
   spec.msd->repulsion_factor = c.repulsion_factor;
   spec.msd->volume_factor = c.volume_factor;
   spec.msd->damping_time = c.damping_time;
+  if (c.axis_stiffness) {
+    spec.msd->edge_laws[static_cast<size_t>(msd::EdgeClass::axis)].stiffness = *c.axis_stiffness;
+    for (msd::EdgeClass k : {msd::EdgeClass::axis, msd::EdgeClass::face_diagonal}) {
+      spec.msd->edge_laws[static_cast<size_t>(k)].tension_exponent = 1.0;
+      spec.msd->edge_laws[static_cast<size_t>(k)].compression_exponent = *c.compression_exponent;
+    }
+  }
   spec.msd->calibration = file;
 }
 

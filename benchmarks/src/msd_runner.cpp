@@ -83,6 +83,7 @@ msd::TissueMaterial make_material(const Spec& spec) {
     m.volume_factor = ms.volume_factor;
     m.poisson_ratio = spec.material.poisson_ratio;
   }
+  m.edge_laws = ms.edge_laws;
   msd::check_material(m, spec.path + ": material");
   return m;
 }
@@ -288,6 +289,14 @@ std::vector<std::pair<std::string, double>> material_record(const Spec& spec,
     r.insert(r.end(), {{"k_s_min", ks_min}, {"k_s_max", ks_max}});
   }
   if (spec.material.poisson_ratio) r.emplace_back("poisson_ratio", *spec.material.poisson_ratio);
+  if (!m.thesis_springs())
+    for (int c = 0; c < msd::kEdgeClasses; ++c) {
+      const msd::SpringLaw& law = m.edge_laws[static_cast<size_t>(c)];
+      const std::string name = std::string("edge_") + msd::to_string(static_cast<msd::EdgeClass>(c));
+      r.insert(r.end(), {{name + "_stiffness", law.stiffness},
+                         {name + "_tension_exponent", law.tension_exponent},
+                         {name + "_compression_exponent", law.compression_exponent}});
+    }
   return r;
 }
 

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 namespace bench {
@@ -112,12 +113,34 @@ MaterialSpec parse_material(const Fields& given) {
   return m;
 }
 
+// msd.edge_classes: {CLASS: {stiffness, tension_exponent, compression_exponent}}
+// for the classes of msd/forces/spring_law.hpp; a class not given keeps the thesis' spring.
+void parse_edge_classes(const Fields& f, MsdSpec& m) {
+  std::vector<std::string> names;
+  for (int c = 0; c < msd::kEdgeClasses; ++c) names.emplace_back(msd::to_string(static_cast<msd::EdgeClass>(c)));
+  f.only(std::set<std::string>(names.begin(), names.end()));
+  for (int c = 0; c < msd::kEdgeClasses; ++c) {
+    const std::string name = names[static_cast<size_t>(c)];
+    const auto law = f.optional_section(name);
+    if (!law) continue;
+    law->only({"stiffness", "tension_exponent", "compression_exponent"});
+    msd::SpringLaw& out = m.edge_laws[static_cast<size_t>(c)];
+    const std::string base = "msd.edge_classes." + name + ".";
+    out.stiffness = number(*law, (base + "stiffness").c_str());
+    out.tension_exponent = number(*law, (base + "tension_exponent").c_str());
+    out.compression_exponent = number(*law, (base + "compression_exponent").c_str());
+    if (out.tension_exponent + out.compression_exponent == 0.0)
+      throw msd::Error(law->where("tension_exponent") +
+                       "and compression_exponent are both 0: the spring law would have no stiffness");
+  }
+}
+
 MsdSpec parse_msd(const Fields& f) {
   f.only({"constants", "k_s", "k_d", "k_r", "k_v", "stiffness_scale", "repulsion_factor",
           "volume_factor", "damping_time", "repulsion_floor", "mass_lumping", "terms", "nonlinear_threshold",
           "integrator", "dt", "calibration", "rtol", "atol", "threads", "forces", "newton_tolerance",
           "newton_max_iterations", "newton_max_step_cuts", "newton_reuse_factorization", "newton_linear_solver",
-          "continuum_volume"});
+          "continuum_volume", "edge_classes"});
   MsdSpec m;
   m.constants = choice(f, "msd.constants");
   const bool raw = m.constants == "raw";
@@ -128,7 +151,7 @@ MsdSpec parse_msd(const Fields& f) {
     if (raw && f.has(k))
       throw msd::Error(f.where(k) + "only meaningful with 'constants: physical'");
   if (f.has("calibration")) {
-    for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time"})
+    for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time", "edge_classes"})
       if (f.has(k))
         throw msd::Error(f.where(k) + "given together with 'calibration', which sets it; give one or the other");
     m.calibration = f.text("calibration");
@@ -151,6 +174,7 @@ MsdSpec parse_msd(const Fields& f) {
     for (const auto& t : m.terms)
       one_of(f, "terms", t, {"springs", "dampers", "repulsion", "volume", "neo_hookean"});
   }
+  if (auto classes = f.optional_section("edge_classes")) parse_edge_classes(*classes, m);
   m.continuum_volume = choice(f, "msd.continuum_volume");
   if (f.has("continuum_volume") && std::find(m.terms.begin(), m.terms.end(), "neo_hookean") == m.terms.end())
     throw msd::Error(f.where("continuum_volume") + "only meaningful with the neo_hookean term in 'terms'");

@@ -23,8 +23,8 @@ output: {interval: 0.02}
 bench::CalibrationResult result() {
   bench::CalibrationResult r;
   r.material = "non_muscular_tissue";
-  r.before = {1.0, 0.1, 1.0, std::nullopt};
-  r.after = {0.8, 0.05, 7.5, std::nullopt};
+  r.before = {1.0, 0.1, 1.0, std::nullopt, std::nullopt, std::nullopt};
+  r.after = {0.8, 0.05, 7.5, std::nullopt, std::nullopt, std::nullopt};
   r.before.damping_time = 4.2e-3;
   r.objective_before = 0.7;
   r.objective_after = 0.1;
@@ -43,7 +43,7 @@ bench::CalibrationResult result() {
 }  // namespace
 
 TEST(Calibration, WithParametersSetsThePhysicalFactors) {
-  const bench::Spec s = bench::with_parameters(bench::parse_spec(kSpec, "s.yaml"), {2.0, 0.3, 4.0, std::nullopt});
+  const bench::Spec s = bench::with_parameters(bench::parse_spec(kSpec, "s.yaml"), {2.0, 0.3, 4.0, std::nullopt, std::nullopt, std::nullopt});
   EXPECT_EQ(s.msd->constants, "physical");
   EXPECT_DOUBLE_EQ(s.msd->stiffness_scale, 2.0);
   EXPECT_DOUBLE_EQ(s.msd->repulsion_factor, 0.3);
@@ -64,6 +64,42 @@ TEST(Calibration, FileRoundTripsWithProvenance) {
   ss << in.rdbuf();
   for (const char* k : {"sha256: ab", "git_revision: \"abc\"", "objective:", "optimiser:", "created:"})
     EXPECT_NE(ss.str().find(k), std::string::npos) << k;
+}
+
+TEST(Calibration, TheEdgeClassesRoundTripThroughTheFileAndSetTheSpecsSpringLaws) {
+  bench::CalibrationResult r = result();
+  r.before.axis_stiffness = 0.5;
+  r.before.compression_exponent = 1.0;
+  r.after.axis_stiffness = 0.61;
+  r.after.compression_exponent = 1.7;
+  testing_support::TempDir dir("cal");
+  bench::write_calibration(r, dir.file("c.yaml"));
+  const bench::CalibrationParameters p = bench::read_calibration(dir.file("c.yaml"));
+  ASSERT_TRUE(p.axis_stiffness && p.compression_exponent);
+  EXPECT_DOUBLE_EQ(*p.axis_stiffness, 0.61);
+  EXPECT_DOUBLE_EQ(*p.compression_exponent, 1.7);
+  bench::Spec s = bench::parse_spec(kSpec, "s.yaml");
+  s.material.name = "non_muscular_tissue";
+  bench::apply_calibration(s, dir.file("c.yaml"));
+  const auto& laws = s.msd->edge_laws;
+  EXPECT_DOUBLE_EQ(laws[0].stiffness, 0.61);
+  EXPECT_DOUBLE_EQ(laws[1].stiffness, 1.0);
+  EXPECT_DOUBLE_EQ(laws[0].compression_exponent, 1.7);
+  EXPECT_DOUBLE_EQ(laws[1].compression_exponent, 1.7);
+  EXPECT_DOUBLE_EQ(laws[2].compression_exponent, 0.0);  // `other` edges: none in the lattice, left linear
+  // with_parameters (the fit's evaluations) sets the same.
+  const bench::Spec w = bench::with_parameters(bench::parse_spec(kSpec, "s.yaml"), p);
+  EXPECT_DOUBLE_EQ(w.msd->edge_laws[0].stiffness, 0.61);
+  EXPECT_DOUBLE_EQ(w.msd->edge_laws[1].compression_exponent, 1.7);
+  // One without the other is refused, naming the field.
+  std::ofstream(dir.file("half.yaml")) << "material: non_muscular_tissue\nparameters: {stiffness_scale: 1, "
+                                          "repulsion_factor: 0.1, volume_factor: 1, axis_stiffness: 0.5}\n";
+  try {
+    bench::read_calibration(dir.file("half.yaml"));
+    FAIL() << "axis_stiffness without compression_exponent was accepted";
+  } catch (const msd::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("axis_stiffness"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Calibration, SpecFieldReadsTheFileRelativeToTheSpec) {

@@ -239,3 +239,32 @@ TEST(Spec, AMemoryLimitIsAFieldOfTheMesh) {
   EXPECT_NE(error_of(replace(kGood, "spacing: 0.01}", "spacing: 0.01, memory_limit_gb: -1}")).find("mesh.memory_limit_gb"),
             std::string::npos);
 }
+
+TEST(Spec, EdgeClassesAreReadByNameAndABadClassOrLawIsRefusedNamingTheField) {
+  const std::string with = replace(kGood, "dt: 1.0e-4}",
+                                   "dt: 1.0e-4, edge_classes: {axis: {stiffness: 0.5, compression_exponent: 2}, "
+                                   "face_diagonal: {tension_exponent: 0.5}}}");
+  const bench::Spec s = bench::parse_spec(with, "s.yaml");
+  const auto& laws = s.msd->edge_laws;
+  EXPECT_DOUBLE_EQ(laws[0].stiffness, 0.5);
+  EXPECT_DOUBLE_EQ(laws[0].tension_exponent, 1.0);  // the default
+  EXPECT_DOUBLE_EQ(laws[0].compression_exponent, 2.0);
+  EXPECT_DOUBLE_EQ(laws[1].stiffness, 1.0);
+  EXPECT_DOUBLE_EQ(laws[1].tension_exponent, 0.5);
+  EXPECT_TRUE(laws[2].linear());
+  // An unknown class, an unknown field of a class, a negative exponent, a law without stiffness.
+  EXPECT_NE(error_of(replace(with, "face_diagonal:", "body_diagonal:")).find("msd.edge_classes.body_diagonal: unknown field"),
+            std::string::npos)
+      << error_of(replace(with, "face_diagonal:", "body_diagonal:"));
+  EXPECT_NE(error_of(replace(with, "stiffness: 0.5", "stifness: 0.5")).find("msd.edge_classes.axis.stifness: unknown field"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(with, "compression_exponent: 2", "compression_exponent: -2"))
+                .find("msd.edge_classes.axis.compression_exponent: must lie in [0, inf)"),
+            std::string::npos)
+      << error_of(replace(with, "compression_exponent: 2", "compression_exponent: -2"));
+  EXPECT_NE(error_of(replace(with, "stiffness: 0.5", "stiffness: 0")).find("msd.edge_classes.axis.stiffness"),
+            std::string::npos);
+  const std::string none = error_of(replace(with, "tension_exponent: 0.5", "tension_exponent: 0, compression_exponent: 0"));
+  EXPECT_NE(none.find("no stiffness"), std::string::npos) << none;
+  EXPECT_NE(none.find("s.yaml:"), std::string::npos) << none;
+}

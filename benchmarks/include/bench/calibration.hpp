@@ -15,6 +15,13 @@
 // with forward-difference Jacobians. Bounds that keep the explicit model stable
 // at the calibration specs' time steps are imposed by the change of variables
 // p = lo + (hi - lo) / (1 + exp(-q)).
+// With the edge classes (calibrate(..., edge_classes = true); the CLI's
+// --edge-classes; issue 17), stage 1 fits two more lattice parameters with
+// the three factors: the cube edges' stiffness relative to the face
+// diagonals' (msd.edge_classes.axis.stiffness; face_diagonal keeps 1 and
+// stiffness_scale the level) and one compression exponent n of the spring law
+// on both classes (tension exponent 1; msd/forces/spring_law.hpp). The fit
+// starts there from the Cauchy-Born isotropic lattice, axis 0.5, and n = 1.
 // Damping (stage 2): the quasi-static references above cannot identify it (the
 // FEM has no rate there; the MSD dampers add 2-3 % of the elastic stress at the
 // turning points), so a dynamic calibration specimen does - a spec with loading
@@ -47,6 +54,10 @@ struct CalibrationParameters {
   double volume_factor = 1.0;
   /// s, the MSD dampers' time constant (msd.damping_time); empty: the material's.
   std::optional<double> damping_time;
+  /// The lattice's edge classes (empty: not fitted, the thesis' springs):
+  /// msd.edge_classes.axis.stiffness, and the compression exponent of both
+  /// classes' spring law (tension exponent 1).
+  std::optional<double> axis_stiffness, compression_exponent;
 };
 
 struct CalibrationBounds {
@@ -54,6 +65,8 @@ struct CalibrationBounds {
   double repulsion_lo = 0.0, repulsion_hi = 2.0;
   double volume_lo = 0.0, volume_hi = 20.0;
   double damping_lo = 0.0, damping_hi = 0.03;  ///< s (the materials' damping_time is 4.2 ms)
+  double axis_lo = 0.2, axis_hi = 2.0;         ///< the cube edges' stiffness over the face diagonals'
+  double exponent_lo = 0.0, exponent_hi = 4.0; ///< the spring law's compression exponent
 };
 
 struct SpecError {
@@ -100,7 +113,7 @@ CalibrationResult calibrate(const std::string& material, const std::vector<std::
                             const std::string& out_dir, const CalibrationBounds& bounds = {},
                             const std::function<void(const std::string&)>& log = {},
                             int max_evaluations = 40, double volume_weight = 2.0,
-                            int max_damping_evaluations = 20);
+                            int max_damping_evaluations = 20, bool edge_classes = false);
 
 /// Writes the calibrated set with its provenance (YAML; the msd solver reads it
 /// through `msd.calibration` in a spec).

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "bench/loading.hpp"
+#include "msd/forces/spring_law.hpp"
 #include "tbio/parameter.hpp"
 
 #include <Eigen/Core>
@@ -75,6 +76,10 @@ struct MsdSpec {
   bool newton_reuse_factorization = true;  ///< modified Newton (msd::NewtonOptions)
   std::string newton_linear_solver = "sparse_lu";  ///< sparse_lu | symmetric_ldlt (msd::LinearSolver)
   std::string continuum_volume = "per_tet";  ///< per_tet | per_cube: the neo_hookean term's volume ratio (per cube: mean dilatation)
+  /// msd.edge_classes.CLASS.{stiffness, tension_exponent, compression_exponent}:
+  /// each edge class's factor on k_s and its spring law (msd/forces/spring_law.hpp),
+  /// in msd::EdgeClass order; the default is the thesis' spring on every class.
+  std::array<msd::SpringLaw, msd::kEdgeClasses> edge_laws{};
 };
 
 /// Settings of the finite-element reference solver.

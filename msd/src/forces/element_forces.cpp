@@ -22,7 +22,13 @@ inline bool one_element(const Model& model, size_t t, const Vec3 x[4], const Vec
   const unsigned terms = model.terms;
   if (terms & (kSprings | kDampers)) {
     const EdgeFrame edges = edge_frame(x);
-    if (terms & kSprings) add_edge_springs(edges, el.rest_length, el.k.k_s, f);
+    if (terms & kSprings) {
+      if (model.plan.edge_law_m.empty())
+        add_edge_springs(edges, el.rest_length, el.k.k_s, f);
+      else
+        add_edge_springs(edges, el.rest_length, el.k.k_s, el.edge_class,
+                         model.region_materials[static_cast<size_t>(el.region)].edge_laws, f);
+    }
     if (terms & kDampers) add_edge_dampers(edges, v, el.k.k_d, f);
   }
   if (terms & kNeoHookean) add_continuum_element_forces(model, t, x, group_pressure, f);
@@ -126,7 +132,11 @@ double conservative_energy(const Model& model, const Points& x) {
     const Element& el = model.elements[t];
     Vec3 xe[4];
     for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[i]);
-    if (model.terms & kSprings) u += edge_spring_energy(xe, el.rest_length, el.k.k_s);
+    if (model.terms & kSprings)
+      u += model.plan.edge_law_m.empty()
+               ? edge_spring_energy(xe, el.rest_length, el.k.k_s)
+               : edge_spring_energy(xe, el.rest_length, el.k.k_s, el.edge_class,
+                                    model.region_materials[static_cast<size_t>(el.region)].edge_laws);
     if (model.terms & kRepulsion)
       u += face_repulsion_energy(tet_frame(xe), el.rest_height, el.k.k_r, el.floor);
     if (model.terms & kNeoHookean)

@@ -2,6 +2,7 @@
 
 #include "msd/forces/edge_dampers.hpp"
 #include "msd/forces/edge_springs.hpp"
+#include "msd/forces/spring_law.hpp"
 #include "msd/forces/element_forces.hpp"
 #include "msd/forces/stable_neo_hookean.hpp"
 #include "msd/mesh/tet_mesh.hpp"
@@ -20,23 +21,37 @@
 
 namespace msd {
 
-ForcePlan make_force_plan(const std::vector<Element>& elements, int num_nodes) {
+ForcePlan make_force_plan(const std::vector<Element>& elements, const std::vector<TissueMaterial>& materials,
+                          int num_nodes) {
   ForcePlan p;
   std::map<std::pair<int, int>, int> index;
+  bool laws = false;
+  for (const TissueMaterial& m : materials)
+    for (const SpringLaw& law : m.edge_laws) laws = laws || !law.linear();
   for (const Element& el : elements)
     for (int k = 0; k < 6; ++k) {
       int a = el.nodes[kTetEdges[k][0]], b = el.nodes[kTetEdges[k][1]];
       if (a > b) std::swap(a, b);
       const auto [it, fresh] = index.emplace(std::make_pair(a, b), p.num_edges());
+      const size_t e = static_cast<size_t>(it->second);
+      const SpringLaw& law = materials.at(static_cast<size_t>(el.region)).edge_laws[static_cast<size_t>(el.edge_class[k])];
       if (fresh) {
         p.edge_a.push_back(a);
         p.edge_b.push_back(b);
         p.edge_rest.push_back(el.rest_length[k]);
         p.edge_k_s.push_back(0.0);
         p.edge_k_d.push_back(0.0);
+        if (laws) {
+          p.edge_law_m.push_back(law.tension_exponent);
+          p.edge_law_n.push_back(law.compression_exponent);
+        }
+      } else if (laws && (p.edge_law_m[e] != law.tension_exponent || p.edge_law_n[e] != law.compression_exponent)) {
+        throw Error("the edge between nodes " + std::to_string(a) + " and " + std::to_string(b) +
+                    " is shared by regions whose materials give its class (" + to_string(el.edge_class[k]) +
+                    ") different spring laws; give the regions one law for it");
       }
-      p.edge_k_s[static_cast<size_t>(it->second)] += el.k.k_s[k];
-      p.edge_k_d[static_cast<size_t>(it->second)] += el.k.k_d[k];
+      p.edge_k_s[e] += el.k.k_s[k];
+      p.edge_k_d[e] += el.k.k_d[k];
     }
   // CSR by counting: offsets, then fill in increasing entry order.
   const auto csr = [num_nodes](size_t entries, auto node_of, std::vector<int>& offset, std::vector<int>& list) {
@@ -57,22 +72,31 @@ ForcePlan make_force_plan(const std::vector<Element>& elements, int num_nodes) {
 namespace {
 
 // Pass 1 over edges [begin, end): out(:, e) = force on edge_a[e]. x, v, out
-// are 3 x N / 3 x E column-major arrays.
-TB_MULTIVERSION
-void edge_pass(const ForcePlan& p, bool springs, bool dampers, const double* x, const double* v, double* out,
-               long begin, long end) {
+// are 3 x N / 3 x E column-major arrays. kLaws: the springs follow their
+// spring laws (ForcePlan::edge_law_m/n); without, the thesis' linear spring
+// (a loop of its own, so the common case carries no per-edge branch).
+template <bool kLaws>
+TB_MULTIVERSION void edge_pass_impl(const ForcePlan& p, bool springs, bool dampers, const double* x, const double* v,
+                                    double* out, long begin, long end) {
   const int* a = p.edge_a.data();
   const int* b = p.edge_b.data();
   const double* rest = p.edge_rest.data();
   const double* ks = p.edge_k_s.data();
   const double* kd = p.edge_k_d.data();
+  const double* law_m = p.edge_law_m.data();
+  const double* law_n = p.edge_law_n.data();
   for (long e = begin; e < end; ++e) {
     const long ia = 3L * a[e], ib = 3L * b[e];
     const double lx = x[ib] - x[ia], ly = x[ib + 1] - x[ia + 1], lz = x[ib + 2] - x[ia + 2];
     const double len = std::sqrt(lx * lx + ly * ly + lz * lz);
     const double inv = 1.0 / len;
     double s = 0.0;
-    if (springs) s += edge_spring_factor(ks[e], len, inv, rest[e]);
+    if (springs) {
+      if constexpr (kLaws)
+        s += spring_law_factor(ks[e], len, inv, rest[e], law_m[e], law_n[e]);
+      else
+        s += edge_spring_factor(ks[e], len, inv, rest[e]);
+    }
     if (dampers) {
       const double rate = (v[ib] - v[ia]) * lx + (v[ib + 1] - v[ia + 1]) * ly + (v[ib + 2] - v[ia + 2]) * lz;
       s += edge_damper_factor(kd[e], rate, inv);
@@ -81,6 +105,14 @@ void edge_pass(const ForcePlan& p, bool springs, bool dampers, const double* x, 
     out[3 * e + 1] = s * ly;
     out[3 * e + 2] = s * lz;
   }
+}
+
+void edge_pass(const ForcePlan& p, bool springs, bool dampers, const double* x, const double* v, double* out,
+               long begin, long end) {
+  if (p.edge_law_m.empty())
+    edge_pass_impl<false>(p, springs, dampers, x, v, out, begin, end);
+  else
+    edge_pass_impl<true>(p, springs, dampers, x, v, out, begin, end);
 }
 
 // Pass 2, one tet: the continuum element and the non-linear terms into its

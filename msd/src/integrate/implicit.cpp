@@ -272,8 +272,14 @@ void assemble_system(const Model& model, const SystemLayout& L, const Points& x,
     for (int e = 0; e < p.num_edges(); ++e) {
       const int a = p.edge_a[static_cast<size_t>(e)], b = p.edge_b[static_cast<size_t>(e)];
       const Vec3 l = x.col(b) - x.col(a);
-      if (springs && c_k != 0.0)
-        add_edge_blocks(values, L, n, e, a, b, edge_spring_jacobian(l, p.edge_rest[static_cast<size_t>(e)], p.edge_k_s[static_cast<size_t>(e)]), c_k);
+      if (springs && c_k != 0.0) {
+        const size_t k = static_cast<size_t>(e);
+        add_edge_blocks(values, L, n, e, a, b,
+                        p.edge_law_m.empty()
+                            ? edge_spring_jacobian(l, p.edge_rest[k], p.edge_k_s[k])
+                            : spring_law_jacobian(l, p.edge_rest[k], p.edge_k_s[k], p.edge_law_m[k], p.edge_law_n[k]),
+                        c_k);
+      }
       if (dampers) {
         Mat3 dl, dw;
         edge_damper_jacobians(l, Vec3(v.col(b) - v.col(a)), p.edge_k_d[static_cast<size_t>(e)], dl, dw);

@@ -38,15 +38,29 @@ void check_material(const TissueMaterial& m, const std::string& where) {
     if (m.poisson_ratio)
       require(*m.poisson_ratio > -1.0 && *m.poisson_ratio < 0.5, where, "poisson_ratio", "in (-1, 0.5)", *m.poisson_ratio);
   }
+  for (int c = 0; c < kEdgeClasses; ++c)
+    check_spring_law(m.edge_laws[static_cast<size_t>(c)],
+                     where + ": edge_classes." + to_string(static_cast<EdgeClass>(c)));
+}
+
+bool TissueMaterial::thesis_springs() const {
+  for (const SpringLaw& law : edge_laws)
+    if (law.stiffness != 1.0 || !law.linear()) return false;
+  return true;
 }
 
 ElementConstants element_constants(const TissueMaterial& m, double rest_volume,
-                                   const double rest_length[6], const double rest_height[4]) {
+                                   const double rest_length[6], const double rest_height[4],
+                                   const EdgeClass* edge_class) {
   ElementConstants c{};
+  // The class factor; exactly 1 (and so bit-neutral) for the thesis' springs.
+  const auto factor = [&](int e) {
+    return edge_class ? m.edge_laws[static_cast<size_t>(edge_class[e])].stiffness : 1.0;
+  };
   if (m.mode == ConstantsMode::Raw) {
     for (int e = 0; e < 6; ++e) {
-      c.k_s[e] = m.k_s;
-      c.k_d[e] = m.k_d;
+      c.k_s[e] = m.k_s * factor(e);
+      c.k_d[e] = m.k_d * factor(e);
     }
     for (int i = 0; i < 4; ++i) {
       c.k_r[i] = m.k_r;
@@ -56,7 +70,7 @@ ElementConstants element_constants(const TissueMaterial& m, double rest_volume,
   }
   const double ev = kLatticeStiffnessFactor * m.stiffness_scale * m.youngs_modulus * rest_volume;
   for (int e = 0; e < 6; ++e) {
-    c.k_s[e] = ev / (rest_length[e] * rest_length[e]);
+    c.k_s[e] = factor(e) * ev / (rest_length[e] * rest_length[e]);
     c.k_d[e] = m.damping_time * c.k_s[e];
   }
   for (int i = 0; i < 4; ++i) {

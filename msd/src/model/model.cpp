@@ -129,9 +129,13 @@ Model build_model(const TetMesh& mesh, const ModelOptions& options) {
     const TetFrame g = tet_frame(x);
     el.rest_volume = g.volume;
     for (int i = 0; i < 4; ++i) el.rest_height[i] = g.height[i];
-    for (int k = 0; k < 6; ++k) el.rest_length[k] = (x[kTetEdges[k][1]] - x[kTetEdges[k][0]]).norm();
+    for (int k = 0; k < 6; ++k) {
+      const Vec3 d = x[kTetEdges[k][1]] - x[kTetEdges[k][0]];
+      el.rest_length[k] = d.norm();
+      el.edge_class[k] = classify_edge(d);
+    }
     el.floor = mat.repulsion_floor;
-    el.k = element_constants(mat, el.rest_volume, el.rest_length, el.rest_height);
+    el.k = element_constants(mat, el.rest_volume, el.rest_length, el.rest_height, el.edge_class);
     if (options.terms & kNeoHookean) {
       if (mat.mode != ConstantsMode::Physical || !mat.poisson_ratio)
         throw Error("material of region " + std::to_string(r) +
@@ -160,7 +164,7 @@ Model build_model(const TetMesh& mesh, const ModelOptions& options) {
     if (!(model.mass[i] > 0.0)) throw Error("node " + std::to_string(i) + " belongs to no tet (zero mass)");
   model.inv_mass = model.mass.cwiseInverse();
   if (!options.volume_group.empty()) model.volume_groups = make_volume_groups(model, options.volume_group);
-  model.plan = make_force_plan(model.elements, n);
+  model.plan = make_force_plan(model.elements, model.region_materials, n);
 
   std::vector<int> owner(static_cast<size_t>(n), -1);
   for (size_t g = 0; g < options.groups.size(); ++g) {

@@ -235,6 +235,30 @@ TEST(Implicit, AssembledJacobiansOfTheNeoHookeanElementMatchFiniteDifferences) {
   EXPECT_LT((dense - dense.transpose()).cwiseAbs().maxCoeff(), 1e-12 * dense.cwiseAbs().maxCoeff());
 }
 
+TEST(Implicit, AssembledJacobiansOfTheEdgeClassesSpringLawsMatchFiniteDifferences) {
+  // Cube edges softer and stiffening in compression, face diagonals with the
+  // neo-Hookean bar's law: the springs' K is their laws' (spring_law_jacobian).
+  msd::ModelOptions mo;
+  const msd::TetMesh mesh = block_mesh(msd::kSprings | msd::kDampers, 1, 3000.0, mo);
+  mo.region_materials[0].edge_laws[0] = {0.5, 1.0, 1.5};
+  mo.region_materials[0].edge_laws[1] = {1.0, 1.0, 2.0};
+  const msd::Model m = msd::build_model(mesh, mo);
+  ASSERT_FALSE(m.plan.edge_law_m.empty());
+  msd::Points x, v;
+  deform(m, 0.45, 0.001, x, v);
+  const msd::SystemLayout L = msd::make_system_layout(m);
+  Eigen::SparseMatrix<double> K = L.pattern;
+  msd::assemble_system(m, L, x, v, 0.0, 0.0, 1.0, K);
+  const Eigen::MatrixXd Kfd = fd_jacobian(m, x, v, false, 1e-7);
+  EXPECT_LT((Eigen::MatrixXd(K) - Kfd).cwiseAbs().maxCoeff(), 1e-6 * Kfd.cwiseAbs().maxCoeff());
+  // The laws matter here: the linear springs' K differs.
+  msd::ModelOptions linear;
+  const msd::Model plain = msd::build_model(block_mesh(msd::kSprings | msd::kDampers, 1, 3000.0, linear), linear);
+  Eigen::SparseMatrix<double> K0 = L.pattern;
+  msd::assemble_system(plain, L, x, v, 0.0, 0.0, 1.0, K0);
+  EXPECT_GT((Eigen::MatrixXd(K) - Eigen::MatrixXd(K0)).cwiseAbs().maxCoeff(), 0.1 * Kfd.cwiseAbs().maxCoeff());
+}
+
 TEST(Implicit, AssembledJacobiansOfTheNeoHookeanElementWithCubeVolumesMatchFiniteDifferences) {
   // Each cube's shared volume ratio couples all eight of its nodes, beyond the lattice's edges.
   const msd::Model m = block(msd::kNeoHookean | msd::kDampers, 1, false, 3000.0, true);

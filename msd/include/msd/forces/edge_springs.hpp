@@ -5,6 +5,9 @@
 #pragma once
 
 #include "msd/forces/edge_frame.hpp"
+#include "msd/forces/spring_law.hpp"
+
+#include <array>
 
 namespace msd {
 
@@ -30,6 +33,31 @@ inline double edge_spring_energy(const Vec3 x[4], const double rest[6], const do
   for (int e = 0; e < 6; ++e) {
     const double d = (x[kTetEdges[e][1]] - x[kTetEdges[e][0]]).norm() - rest[e];
     u += 0.5 * ks[e] * d * d;
+  }
+  return u;
+}
+
+/// The same with each edge's spring law (msd/forces/spring_law.hpp): edge e
+/// pulls with k_s[e] r phi(lambda) along l[e], its law laws[cls[e]].
+inline void add_edge_springs(const EdgeFrame& g, const double rest[6], const double ks[6], const EdgeClass cls[6],
+                             const std::array<SpringLaw, kEdgeClasses>& laws, Vec3 f[4]) {
+  for (int e = 0; e < 6; ++e) {
+    const SpringLaw& law = laws[static_cast<size_t>(cls[e])];
+    const Vec3 fa = spring_law_factor(ks[e], g.length[e], g.inv_length[e], rest[e], law.tension_exponent,
+                                      law.compression_exponent) * g.l[e];
+    f[kTetEdges[e][0]] += fa;
+    f[kTetEdges[e][1]] -= fa;
+  }
+}
+
+/// Elastic energy of the six springs with their laws: k_s r^2 Psi(lambda) each.
+inline double edge_spring_energy(const Vec3 x[4], const double rest[6], const double ks[6], const EdgeClass cls[6],
+                                 const std::array<SpringLaw, kEdgeClasses>& laws) {
+  double u = 0.0;
+  for (int e = 0; e < 6; ++e) {
+    const SpringLaw& law = laws[static_cast<size_t>(cls[e])];
+    const double stretch = (x[kTetEdges[e][1]] - x[kTetEdges[e][0]]).norm() / rest[e];
+    u += ks[e] * rest[e] * rest[e] * spring_law_energy(law.tension_exponent, law.compression_exponent, stretch);
   }
   return u;
 }

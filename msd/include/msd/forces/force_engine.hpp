@@ -24,8 +24,12 @@
 
 namespace msd {
 
-/// The model's ForcePlan from its elements (build_model calls it).
-ForcePlan make_force_plan(const std::vector<Element>& elements, int num_nodes);
+/// The model's ForcePlan from its elements (build_model calls it); each
+/// edge's spring law is its class's in its tets' region material. Throws
+/// msd::Error when two tets sharing an edge give it different laws (regions
+/// whose materials disagree on that edge class's exponents).
+ForcePlan make_force_plan(const std::vector<Element>& elements, const std::vector<TissueMaterial>& materials,
+                          int num_nodes);
 
 /// Internal forces at x, v (3 x N) into f (resized, overwritten), using the
 /// buffers in `buffers` (edge_force, corner_force; sized on first use, then

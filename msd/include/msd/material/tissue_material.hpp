@@ -28,6 +28,9 @@
 #pragma once
 
 #include "msd/core/types.hpp"
+#include "msd/forces/spring_law.hpp"
+
+#include <array>
 
 #include <optional>
 #include <string>
@@ -62,6 +65,12 @@ struct TissueMaterial {
   std::optional<double> poisson_ratio;
   // Both modes.
   double repulsion_floor = 0.01;   ///< tangent continuation below floor * x0
+  /// Per edge class (EdgeClass order: axis, face_diagonal, other): a factor on
+  /// the edge's k_s and k_d and its spring law (msd/forces/spring_law.hpp).
+  /// The default, factor 1 and the linear law on every class, is the thesis'.
+  std::array<SpringLaw, kEdgeClasses> edge_laws{};
+  /// Whether every class is the thesis' linear spring of factor 1.
+  bool thesis_springs() const;
 };
 
 /// Cauchy-Born factor of the five-tetrahedron cubic lattice (see above).
@@ -69,7 +78,8 @@ inline constexpr double kLatticeStiffnessFactor = 5.0 / 6.0;
 
 /// Throws msd::Error naming `where` and the field if a constant is unphysical
 /// (density <= 0, negative constants, E <= 0 in physical mode, floor not in
-/// (0, 1), a Poisson's ratio given outside (-1, 0.5), non-finite values).
+/// (0, 1), a Poisson's ratio given outside (-1, 0.5), non-finite values, an
+/// edge class's law refused by check_spring_law: "<where>: edge_classes.axis.stiffness ...").
 void check_material(const TissueMaterial& m, const std::string& where);
 
 /// Per-element constants of one tet from its rest geometry.
@@ -77,7 +87,11 @@ struct ElementConstants {
   double k_s[6], k_d[6], k_r[4], k_v[4];
 };
 
+/// edge_class (kTetEdges order; null: every edge `axis`, i.e. no class
+/// factor - which is factor 1 unless the material sets one) picks each edge's
+/// factor from m.edge_laws.
 ElementConstants element_constants(const TissueMaterial& m, double rest_volume,
-                                   const double rest_length[6], const double rest_height[4]);
+                                   const double rest_length[6], const double rest_height[4],
+                                   const EdgeClass* edge_class = nullptr);
 
 }  // namespace msd

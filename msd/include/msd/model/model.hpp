@@ -81,6 +81,9 @@ struct Element {
   int region = 0;
   double rest_volume = 0.0;
   double rest_length[6];   ///< kTetEdges order
+  /// kTetEdges order: each edge's class (msd/forces/spring_law.hpp), from its rest vector.
+  EdgeClass edge_class[6] = {EdgeClass::axis, EdgeClass::axis, EdgeClass::axis,
+                             EdgeClass::axis, EdgeClass::axis, EdgeClass::axis};
   double rest_height[4];   ///< vertex i over the plane of its opposite face
   double floor = 0.01;     ///< repulsion tangent continuation (fraction of x0)
   ElementConstants k;
@@ -100,6 +103,9 @@ struct ContinuumElements {
 ///    rest length; k_s and k_d summed over the tets that share the edge (an
 ///    edge of the five-tet lattice is in up to six tets, so each edge's
 ///    spring and damper is evaluated once instead of once per tet side).
+///  - The spring law's exponents per edge (msd/forces/spring_law.hpp), E
+///    each - empty when every edge has the thesis' linear law, which then
+///    runs its own code path.
 ///  - The gather tables (CSR, N + 1 offsets): for node n, the edges touching it
 ///    as 2 e + (n == b[e]) and the tet corners it is, as 4 t + c, both in
 ///    increasing order, so every node's force is summed in a fixed order
@@ -107,6 +113,7 @@ struct ContinuumElements {
 struct ForcePlan {
   std::vector<int> edge_a, edge_b;           ///< E
   std::vector<double> edge_rest, edge_k_s, edge_k_d;  ///< E
+  std::vector<double> edge_law_m, edge_law_n;         ///< E, or empty: linear
   std::vector<int> node_edge_offset, node_edge;        ///< N + 1, 2 E
   std::vector<int> node_corner_offset, node_corner;    ///< N + 1, 4 T
   int num_edges() const { return static_cast<int>(edge_a.size()); }
