@@ -49,7 +49,7 @@ Y_LABEL = {
     "indentation_force": "indentation force (N)",
 }
 VARIANT_STYLE = {"thesis": ("tab:red", "--"), "physical": ("tab:blue", "-"), "calibrated": ("tab:green", "-"),
-                 "continuum": ("tab:purple", "-.")}
+                 "lattice": ("tab:orange", "-"), "continuum": ("tab:purple", "-.")}
 
 
 def closed_form(fem_path, loading):

@@ -185,7 +185,10 @@ int cmd_calibrate(const CalibrateArgs& args) {
   };
   const bench::CalibrationResult r = bench::calibrate(args.material, specs, args.out, {}, log,
                                                       args.max_evaluations, args.volume_weight,
-                                                      args.max_damping_evaluations, args.edge_classes);
+                                                      args.max_damping_evaluations, args.edge_classes,
+                                                      args.no_check ? std::vector<std::string>{}
+                                                      : args.check_specs.empty() ? bench::shipped_benchmark_specs()
+                                                                                 : args.check_specs);
   const std::string file = (fs::path(args.out) / (args.material + ".yaml")).string();
   bench::write_calibration(r, file);
   std::printf("Calibration of %s: %s after %d iterations, %d evaluations\n", r.material.c_str(),

@@ -131,6 +131,13 @@ int dispatch(int argc, char** argv) {
   calibrate_cmd->add_flag("--edge-classes", calibrate.edge_classes,
                           "Also fit the lattice's edge classes: the cube edges' stiffness relative to the face "
                           "diagonals' and the spring law's compression exponent (docs/msd-model.md section 4, edge classes)");
+  calibrate_cmd->add_option("--check-specs", calibrate.check_specs,
+                            "Specs the fitted set is run on after the fit; a blow-up or an inverted element "
+                            "refuses the set (default: the shipped uniaxial, shear, bending, bending_gravity, "
+                            "vibration and indentation specs)")
+      ->delimiter(',')
+      ->check(CLI::ExistingFile);
+  calibrate_cmd->add_flag("--no-check", calibrate.no_check, "Skip the run of the fitted set on the check specs");
   calibrate_cmd->add_option("--volume-weight", calibrate.volume_weight,
                             "Weight w of the uni-axial volume-ratio residual w (V_msd - V_fem) against the "
                             "relative stress residuals (0: stress only)")

@@ -254,7 +254,8 @@ std::string load_series_of(const Spec& s) {
 CalibrationResult calibrate(const std::string& material, const std::vector<std::string>& spec_files,
                             const std::string& out_dir, const CalibrationBounds& bounds,
                             const std::function<void(const std::string&)>& log, int max_evaluations,
-                            double volume_weight, int max_damping_evaluations, bool edge_classes) {
+                            double volume_weight, int max_damping_evaluations, bool edge_classes,
+                            const std::vector<std::string>& check_specs) {
   if (!(volume_weight >= 0.0)) throw msd::Error("calibration: the volume weight must be >= 0");
   {  // the material first: an unknown name is the user's, not a shipped spec's
     const YAML::Node lib = load_yaml_file(TISSUEBENCH_MATERIALS_FILE, "materials file");
@@ -386,11 +387,47 @@ CalibrationResult calibrate(const std::string& material, const std::vector<std::
   }
   if (!residuals(all, res.after, r, &err)) throw msd::Error("calibration: the fitted constants are unstable");
   record(err, true);
+  res.checked_on = check_fitted_set(material, res.after, check_specs, log);
   const std::time_t now = std::time(nullptr);
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
   res.created = buf;
   return res;
+}
+
+std::vector<std::string> shipped_benchmark_specs() {
+  std::vector<std::string> files;
+  for (const char* n : {"uniaxial", "shear", "bending", "bending_gravity", "vibration", "indentation"})
+    files.push_back((fs::path(TISSUEBENCH_SPECS_DIR) / (std::string(n) + ".yaml")).string());
+  return files;
+}
+
+std::vector<std::string> check_fitted_set(const std::string& material, const CalibrationParameters& p,
+                                          const std::vector<std::string>& spec_files,
+                                          const std::function<void(const std::string&)>& log) {
+  std::vector<std::string> names;
+  for (const auto& file : spec_files) {
+    const std::string text = std::regex_replace(msd::read_input_file(file, "check spec"),
+                                                std::regex("library: *[A-Za-z_]+"), "library: " + material);
+    const Spec spec = with_parameters(parse_spec(text, file), p);
+    if (log) log("check: the fitted set on " + spec.name);
+    std::map<std::string, std::vector<double>> s;
+    try {
+      s = simulate_msd(spec);
+    } catch (const msd::SimulationFailure& e) {
+      throw msd::Error("calibration: the fitted set fails on " + file + ": " + e.what() +
+                       " (the calibration file is not written)");
+    }
+    const auto inverted = s.find("inverted_elements");
+    if (inverted != s.end())
+      for (size_t i = 0; i < inverted->second.size(); ++i)
+        if (inverted->second[i] > 0.0)
+          throw msd::Error("calibration: the fitted set inverts " + std::to_string(std::lround(inverted->second[i])) +
+                           " element(s) on " + file + " at t = " + std::to_string(s.at("time")[i]) +
+                           " s (the calibration file is not written)");
+    names.push_back(spec.name);
+  }
+  return names;
 }
 
 void write_calibration(const CalibrationResult& r, const std::string& path) {
@@ -439,6 +476,11 @@ void write_calibration(const CalibrationResult& r, const std::string& path) {
             << ", damping_ratio_after: " << s.damping_ratio_after << ", frequency_fem: " << s.frequency_fem
             << ", frequency_before: " << s.frequency_before << ", frequency_after: " << s.frequency_after;
       out << "}\n";
+    }
+    if (!r.checked_on.empty()) {
+      out << "checked_on: [";
+      for (size_t i = 0; i < r.checked_on.size(); ++i) out << (i ? ", " : "") << r.checked_on[i];
+      out << "]   # run with the fitted set after the fit: no blow-up, no inverted element\n";
     }
     out << "reference: {solver: fem, version: \"" << r.fem_version << "\", git_revision: \"" << r.fem_git_revision
         << "\"}\ncreated: " << r.created << "\n";

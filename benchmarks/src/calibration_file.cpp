@@ -17,7 +17,7 @@ CalibrationParameters read_calibration(const std::string& path, std::string* mat
   // sections only for their presence as written by write_calibration.
   const tbio::Fields f(load_yaml_file(path, "calibration file"), "", path);
   f.only({"material", "parameters", "material_damping_time", "starting_parameters", "volume_weight", "objective", "optimiser",
-          "damping_stage", "specs", "reference", "created"});
+          "damping_stage", "specs", "checked_on", "reference", "created"});
   if (material) *material = f.text_or("material", "");
   const tbio::Fields p = f.section("parameters");
   p.only({"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time", "axis_stiffness",

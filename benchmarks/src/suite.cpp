@@ -107,15 +107,20 @@ Spec suite_variant(const Spec& spec, const std::string& variant, const std::stri
       n["msd"] = m;
     });
   }
-  if (variant == "calibrated") {
+  if (variant == "calibrated" || variant == "lattice") {
+    // calibrated: the three factors' fit (MATERIAL.yaml); lattice: the fit with
+    // the edge classes (MATERIAL_lattice.yaml, calibrate --edge-classes).
     const YAML::Node root = YAML::Load(spec.text);
     if (!root["material"] || !root["material"]["library"])
-      throw msd::Error(spec.path + ": the calibrated variant needs a material from the library (material.library)");
+      throw msd::Error(spec.path + ": the " + variant + " variant needs a material from the library (material.library)");
     const std::string file =
-        (fs::absolute(calibration_dir) / (root["material"]["library"].as<std::string>() + ".yaml")).string();
+        (fs::absolute(calibration_dir) /
+         (root["material"]["library"].as<std::string>() + (variant == "lattice" ? "_lattice" : "") + ".yaml"))
+            .string();
     if (!fs::exists(file)) throw msd::Error(spec.path + ": no calibration " + file + " for its material");
     return spec_variant(spec, [&](YAML::Node& n) {
-      for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time", "calibration"})
+      for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time", "calibration",
+                            "edge_classes"})
         n["msd"].remove(k);
       n["msd"]["calibration"] = file;
     });
@@ -132,7 +137,7 @@ Spec suite_variant(const Spec& spec, const std::string& variant, const std::stri
       n["msd"]["continuum_volume"] = "per_cube";
     });
   }
-  throw msd::Error("suite: unknown variant '" + variant + "' (thesis, physical, calibrated, continuum)");
+  throw msd::Error("suite: unknown variant '" + variant + "' (thesis, physical, calibrated, lattice, continuum)");
 }
 
 SuiteTier load_tier(const std::string& path) {
@@ -145,8 +150,9 @@ SuiteTier load_tier(const std::string& path) {
   t.description = f.text_or("description", "");
   t.variants = f.has("variants") ? f.text_list("variants") : std::vector<std::string>{"physical"};
   for (const auto& v : t.variants)
-    if (v != "thesis" && v != "physical" && v != "calibrated" && v != "continuum")
-      throw msd::Error(f.where("variants") + "unknown variant '" + v + "' (thesis, physical, calibrated, continuum)");
+    if (v != "thesis" && v != "physical" && v != "calibrated" && v != "lattice" && v != "continuum")
+      throw msd::Error(f.where("variants") + "unknown variant '" + v +
+                       "' (thesis, physical, calibrated, lattice, continuum)");
   auto items = [&](const std::string& key, const std::function<void(const Fields&)>& each) {
     const YAML::Node list = root[key];
     if (!list) return;

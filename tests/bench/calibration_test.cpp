@@ -218,3 +218,24 @@ TEST(Calibration, UnknownFieldsAndMissingFactorsAreRefusedByName) {
                                      "volume_factor: -3}\n");
   EXPECT_NE(twice.find("duplicate key 'volume_factor'"), std::string::npos) << twice;
 }
+
+TEST(Calibration, AFittedSetIsRunOnTheCheckSpecsAndRefusedWhenItBlowsUp) {
+  testing_support::TempDir dir("cal");
+  std::ofstream(dir.file("small.yaml")) << kSpec;
+  bench::CalibrationParameters sane{1.0, 0.1, 1.0, std::nullopt, 0.5, 1.0};
+  EXPECT_EQ(bench::check_fitted_set("passive_muscle", sane, {dir.file("small.yaml")}),
+            std::vector<std::string>{"small"});
+  // Ten thousand times stiffer: far past the explicit step's stability limit.
+  bench::CalibrationParameters stiff = sane;
+  stiff.stiffness_scale = 1e4;
+  try {
+    bench::check_fitted_set("passive_muscle", stiff, {dir.file("small.yaml")});
+    FAIL() << "a set that blows up was accepted";
+  } catch (const msd::Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("the fitted set fails on " + dir.file("small.yaml")), std::string::npos) << m;
+    EXPECT_NE(m.find("not written"), std::string::npos) << m;
+  }
+  // The default list is the six shipped comparison specs.
+  EXPECT_EQ(bench::shipped_benchmark_specs().size(), 6u);
+}

@@ -94,6 +94,9 @@ struct CalibrationResult {
   int damping_iterations = 0, damping_evaluations = 0;
   std::string damping_status;
   std::vector<SpecError> specs;
+  /// The specs the fitted set was run on after the fit (check_specs): every
+  /// one completed without a blow-up or an inverted element.
+  std::vector<std::string> checked_on;
   std::string fem_version, fem_git_revision, created;
 };
 
@@ -113,7 +116,20 @@ CalibrationResult calibrate(const std::string& material, const std::vector<std::
                             const std::string& out_dir, const CalibrationBounds& bounds = {},
                             const std::function<void(const std::string&)>& log = {},
                             int max_evaluations = 40, double volume_weight = 2.0,
-                            int max_damping_evaluations = 20, bool edge_classes = false);
+                            int max_damping_evaluations = 20, bool edge_classes = false,
+                            const std::vector<std::string>& check_specs = {});
+
+/// The shipped comparison specs (uniaxial, shear, bending, bending_gravity,
+/// vibration, indentation in benchmarks/specs): a calibration's default
+/// check_specs.
+std::vector<std::string> shipped_benchmark_specs();
+
+/// Runs the set `p` on each spec (its material replaced by `material`, as the
+/// calibration specs); throws msd::Error "calibration: the fitted set fails
+/// on SPEC: ..." when a run blows up or inverts an element. Returns the specs' names.
+std::vector<std::string> check_fitted_set(const std::string& material, const CalibrationParameters& p,
+                                          const std::vector<std::string>& spec_files,
+                                          const std::function<void(const std::string&)>& log = {});
 
 /// Writes the calibrated set with its provenance (YAML; the msd solver reads it
 /// through `msd.calibration` in a spec).

@@ -25,7 +25,10 @@ namespace bench {
 ///  - thesis: raw constants of the thesis' element (k_s 10.75 N/m, k_d 0.2 N s/m,
 ///    k_r 3 N/m, k_v 50 N/m), equal mass lumping, explicit Euler, all terms on;
 ///  - physical: the spec as shipped (constants from E and h);
-///  - calibrated: the spec with benchmarks/calibration/MATERIAL.yaml.
+///  - calibrated: the spec with benchmarks/calibration/MATERIAL.yaml;
+///  - lattice: the spec with benchmarks/calibration/MATERIAL_lattice.yaml, the
+///    fit with the edge classes (calibrate --edge-classes);
+///  - continuum: the stable neo-Hookean tet with cube volumes (the model ladder's top rung).
 Spec suite_variant(const Spec& spec, const std::string& variant, const std::string& calibration_dir);
 
 struct SuiteTier {
