@@ -4,7 +4,10 @@
 // the per-tet reference loop (BM_Reference*) and the fast engine
 // (BM_Fast*, argument = threads) side by side in one run; then the fast full
 // model's scaling from 1k to 250k tets on 1 and 2 threads (BM_FastScaling,
-// arguments = cubes along x, threads).
+// arguments = cubes along x, threads). BM_FastSpringLaws / BM_FastFullModelSpringLaws:
+// the same with the edge classes' non-linear spring laws (cube edges 0.3 k_s,
+// compression exponent 3 on both classes: the calibrated lattice's form), beside
+// the linear springs in the same run.
 #include "msd/forces/element_forces.hpp"
 #include "msd/forces/force_engine.hpp"
 #include "msd/mesh/cubic_grid.hpp"
@@ -23,7 +26,8 @@ struct Fixture {
 // A 10 x 10 x 20 cm block at h = 1 cm (2,000 cubes, 10,000 tets; or `nx` x
 // `nx` x 2 `nx` cubes), physical constants, positions perturbed randomly and
 // the block squeezed along z by `squeeze` (0.8 = 20 % compression).
-Fixture make_fixture(unsigned terms, double threshold, double squeeze, int threads = 1, int nx = 10) {
+Fixture make_fixture(unsigned terms, double threshold, double squeeze, int threads = 1, int nx = 10,
+                     bool laws = false) {
   msd::SampleMeshOptions o;
   o.spacing = 0.01;
   o.max_cubes = 100000000;
@@ -39,6 +43,10 @@ Fixture make_fixture(unsigned terms, double threshold, double squeeze, int threa
   mat.damping_time = 0.01;
   mat.repulsion_factor = 0.2;
   mat.volume_factor = 1.0;
+  if (laws) {
+    mat.edge_laws[0] = {0.3, 1.0, 3.0};
+    mat.edge_laws[1] = {1.0, 1.0, 3.0};
+  }
   mo.region_materials = {mat};
   mo.threads = threads;
   Fixture fx{msd::build_model(sample.mesh, mo), {}, {}, {}};
@@ -57,9 +65,10 @@ Fixture make_fixture(unsigned terms, double threshold, double squeeze, int threa
 
 // fast: the engine on state.range(0) threads (or range(1) with a size in range(0)); else the reference loop.
 void run(benchmark::State& state, unsigned terms, double threshold, double squeeze, bool fast = false,
-         bool scaling = false) {
+         bool scaling = false, bool laws = false) {
   const int threads = fast ? static_cast<int>(state.range(scaling ? 1 : 0)) : 1;
-  Fixture fx = make_fixture(terms, threshold, squeeze, threads, scaling ? static_cast<int>(state.range(0)) : 10);
+  Fixture fx =
+      make_fixture(terms, threshold, squeeze, threads, scaling ? static_cast<int>(state.range(0)) : 10, laws);
   msd::Scratch buffers;
   long active = 0;
   for (auto _ : state) {
@@ -93,11 +102,14 @@ void BM_FastVolume(benchmark::State& s) { run(s, kVolume, 0.0, 0.95, true); }
 void BM_FastFullModel(benchmark::State& s) { run(s, kFull, 0.0, 0.95, true); }
 void BM_FastFullModelThreshold07Mild(benchmark::State& s) { run(s, kFull, 0.7, 0.95, true); }
 void BM_FastFullModelThreshold07Compressed(benchmark::State& s) { run(s, kFull, 0.7, 0.6, true); }
+void BM_FastSpringLaws(benchmark::State& s) { run(s, kSprings, 0.0, 0.95, true, false, true); }
+void BM_FastFullModelSpringLaws(benchmark::State& s) { run(s, kFull, 0.0, 0.95, true, false, true); }
 void BM_FastScaling(benchmark::State& s) { run(s, kFull, 0.0, 0.95, true, true); }
 void BM_ReferenceScaling(benchmark::State& s) { run(s, kFull, 0.0, 0.95, false, true); }
 
 BENCHMARK(BM_ReferenceSprings);
 BENCHMARK(BM_FastSprings)->Arg(1);
+BENCHMARK(BM_FastSpringLaws)->Arg(1);
 BENCHMARK(BM_ReferenceDampers);
 BENCHMARK(BM_FastDampers)->Arg(1);
 BENCHMARK(BM_ReferenceRepulsion);
@@ -106,6 +118,7 @@ BENCHMARK(BM_ReferenceVolume);
 BENCHMARK(BM_FastVolume)->Arg(1);
 BENCHMARK(BM_ReferenceFullModel);
 BENCHMARK(BM_FastFullModel)->Arg(1)->Arg(2)->UseRealTime();
+BENCHMARK(BM_FastFullModelSpringLaws)->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK(BM_ReferenceFullModelThreshold07Mild);
 BENCHMARK(BM_FastFullModelThreshold07Mild)->Arg(1)->Arg(2)->UseRealTime();
 BENCHMARK(BM_ReferenceFullModelThreshold07Compressed);

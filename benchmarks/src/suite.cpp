@@ -123,6 +123,12 @@ Spec suite_variant(const Spec& spec, const std::string& variant, const std::stri
                             "edge_classes"})
         n["msd"].remove(k);
       n["msd"]["calibration"] = file;
+      // The fitted lattice's volume term is 4-10 times the shipped one, and
+      // the non-symmetric part of Newton's matrix with it: Newton on the
+      // symmetric part alone (symmetric_ldlt) then crawls - the thesis cycle
+      // took 0.25 s per BDF2 step against the whole 12 s cycle in under a
+      // minute with sparse_lu (benchmarks/results/2026-12-04-edge-classes.md).
+      if (variant == "lattice" && n["msd"]["newton_linear_solver"]) n["msd"]["newton_linear_solver"] = "sparse_lu";
     });
   }
   if (variant == "continuum") {

@@ -1,5 +1,6 @@
 // The suite's pieces: tier files (strict, errors named) and the MSD variants.
 #include "bench/suite.hpp"
+#include "bench/calibration.hpp"
 
 #include "msd/core/types.hpp"
 #include "test_support.hpp"
@@ -81,6 +82,23 @@ TEST(Suite, VariantsSetTheThesisConstantsOrTheMaterialsCalibration) {
   EXPECT_EQ(calibrated.mesh->spacing, spec.mesh->spacing);
   EXPECT_EQ(bench::suite_variant(spec, "physical", cal).text, spec.text);
   EXPECT_THROW(bench::suite_variant(spec, "tuned", cal), msd::Error);
+  // The calibrated lattice: the fit with the edge classes, from MATERIAL_lattice.yaml
+  // (none shipped yet: one written here as calibrate --edge-classes writes it).
+  testing_support::TempDir lattice_dir("lattice");
+  bench::CalibrationResult fitted;
+  fitted.material = "passive_muscle";
+  fitted.before = {1.0, 0.1, 1.0, 4.2e-3, 0.5, 1.0};
+  fitted.after = {1.08, 0.03, 10.0, 5.1e-3, 0.26, 1.96};
+  bench::write_calibration(fitted, lattice_dir.file("passive_muscle_lattice.yaml"));
+  EXPECT_THROW(bench::suite_variant(spec, "lattice", cal), msd::Error);  // no MATERIAL_lattice.yaml: named
+  const bench::Spec lattice = bench::suite_variant(spec, "lattice", lattice_dir.path().string());
+  EXPECT_NE(lattice.msd->calibration.find("passive_muscle_lattice.yaml"), std::string::npos);
+  EXPECT_DOUBLE_EQ(lattice.msd->edge_laws[0].stiffness, 0.26);
+  EXPECT_DOUBLE_EQ(lattice.msd->edge_laws[0].compression_exponent, 1.96);
+  EXPECT_DOUBLE_EQ(lattice.msd->edge_laws[1].compression_exponent, 1.96);
+  EXPECT_DOUBLE_EQ(lattice.msd->volume_factor, 10.0);
+  EXPECT_EQ(lattice.mesh->spacing, spec.mesh->spacing);
+  EXPECT_EQ(lattice.msd->newton_linear_solver, "sparse_lu");  // exact Newton: the fitted volume term is stiff
   // The continuum rung: the neo-Hookean tets with cube volumes on the same mesh and steps.
   const bench::Spec continuum = bench::suite_variant(spec, "continuum", cal);
   EXPECT_EQ(continuum.msd->terms, (std::vector<std::string>{"neo_hookean", "dampers"}));

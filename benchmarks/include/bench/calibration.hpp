@@ -125,7 +125,8 @@ CalibrationResult calibrate(const std::string& material, const std::vector<std::
 std::vector<std::string> shipped_benchmark_specs();
 
 /// Runs the set `p` on each spec (its material replaced by `material`, as the
-/// calibration specs); throws msd::Error "calibration: the fitted set fails
+/// calibration specs; implicit steps with the exact Newton of sparse_lu);
+/// throws msd::Error "calibration: the fitted set fails
 /// on SPEC: ..." when a run blows up or inverts an element. Returns the specs' names.
 std::vector<std::string> check_fitted_set(const std::string& material, const CalibrationParameters& p,
                                           const std::vector<std::string>& spec_files,
