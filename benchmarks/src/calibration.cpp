@@ -32,13 +32,7 @@ Spec with_parameters(const Spec& spec, const CalibrationParameters& p) {
   s.msd->repulsion_factor = p.repulsion_factor;
   s.msd->volume_factor = p.volume_factor;
   if (p.damping_time) s.msd->damping_time = p.damping_time;
-  if (p.axis_stiffness) s.msd->edge_laws[static_cast<size_t>(msd::EdgeClass::axis)].stiffness = *p.axis_stiffness;
-  if (p.compression_exponent)
-    for (msd::EdgeClass c : {msd::EdgeClass::axis, msd::EdgeClass::face_diagonal}) {
-      msd::SpringLaw& law = s.msd->edge_laws[static_cast<size_t>(c)];
-      law.tension_exponent = 1.0;
-      law.compression_exponent = *p.compression_exponent;
-    }
+  apply_edge_classes(*s.msd, p);
   return s;
 }
 

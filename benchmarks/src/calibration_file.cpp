@@ -45,6 +45,16 @@ CalibrationParameters read_calibration(const std::string& path, std::string* mat
   return c;
 }
 
+void apply_edge_classes(MsdSpec& msd, const CalibrationParameters& p) {
+  if (p.axis_stiffness) msd.edge_laws[static_cast<size_t>(msd::EdgeClass::axis)].stiffness = *p.axis_stiffness;
+  if (p.compression_exponent)
+    for (msd::EdgeClass c : {msd::EdgeClass::axis, msd::EdgeClass::face_diagonal}) {
+      msd::SpringLaw& law = msd.edge_laws[static_cast<size_t>(c)];
+      law.tension_exponent = 1.0;
+      law.compression_exponent = *p.compression_exponent;
+    }
+}
+
 void apply_calibration(Spec& spec, const std::string& file, const std::string& where) {
   if (!spec.msd || spec.msd->constants != "physical")
     throw msd::Error(where + file + ": a calibration applies to 'msd.constants: physical'");
@@ -62,13 +72,7 @@ void apply_calibration(Spec& spec, const std::string& file, const std::string& w
   spec.msd->repulsion_factor = c.repulsion_factor;
   spec.msd->volume_factor = c.volume_factor;
   spec.msd->damping_time = c.damping_time;
-  if (c.axis_stiffness) {
-    spec.msd->edge_laws[static_cast<size_t>(msd::EdgeClass::axis)].stiffness = *c.axis_stiffness;
-    for (msd::EdgeClass k : {msd::EdgeClass::axis, msd::EdgeClass::face_diagonal}) {
-      spec.msd->edge_laws[static_cast<size_t>(k)].tension_exponent = 1.0;
-      spec.msd->edge_laws[static_cast<size_t>(k)].compression_exponent = *c.compression_exponent;
-    }
-  }
+  apply_edge_classes(*spec.msd, c);
   spec.msd->calibration = file;
 }
 

@@ -146,4 +146,10 @@ CalibrationParameters read_calibration(const std::string& path, std::string* mat
 /// prefixed to messages (the spec field that named the file).
 void apply_calibration(Spec& spec, const std::string& file, const std::string& where = "");
 
+/// The fitted edge classes of `p` into the msd section (nothing when p has
+/// none): the axis factor on `axis`, and the law (tension exponent 1,
+/// p's compression exponent) on `axis` and `face_diagonal`. Shared by
+/// apply_calibration and with_parameters.
+void apply_edge_classes(MsdSpec& msd, const CalibrationParameters& p);
+
 }  // namespace bench
