@@ -81,6 +81,7 @@ msd::TissueMaterial make_material(const Spec& spec) {
     m.stiffness_scale = ms.stiffness_scale;
     m.repulsion_factor = ms.repulsion_factor;
     m.volume_factor = ms.volume_factor;
+    m.bulk_factor = ms.bulk_factor;
     m.poisson_ratio = spec.material.poisson_ratio;
   }
   m.edge_laws = ms.edge_laws;
@@ -112,9 +113,11 @@ MsdProblem compile_msd(const Spec& spec) {
   o.newton = {ms.newton_tolerance, ms.newton_max_iterations, ms.newton_max_step_cuts, ms.newton_reuse_factorization,
               msd::parse_linear_solver(ms.newton_linear_solver)};
   o.reference_forces = ms.forces == "reference";
-  if (ms.continuum_volume == "per_cube") {
+  const bool bulk = o.terms & msd::kBulk;
+  if (ms.continuum_volume == "per_cube" || bulk) {
     if (p.sample.info.tet_cube_id.size() != p.sample.mesh.tets.size())
-      throw msd::Error(spec.path + ": msd.continuum_volume: per_cube needs the lattice's cubes, and this mesh has none");
+      throw msd::Error(spec.path + (bulk ? ": msd.terms: the bulk term" : ": msd.continuum_volume: per_cube") +
+                       " needs the lattice's cubes, and this mesh has none");
     o.volume_group = p.sample.info.tet_cube_id;
   }
   o.region_materials.assign(1, make_material(spec));
@@ -289,6 +292,8 @@ std::vector<std::pair<std::string, double>> material_record(const Spec& spec,
     r.insert(r.end(), {{"k_s_min", ks_min}, {"k_s_max", ks_max}});
   }
   if (spec.material.poisson_ratio) r.emplace_back("poisson_ratio", *spec.material.poisson_ratio);
+  if (model.terms & msd::kBulk && !model.volume_groups.bulk_modulus.empty())
+    r.insert(r.end(), {{"lattice_bulk_factor", m.bulk_factor}, {"lattice_bulk_modulus", model.volume_groups.bulk_modulus.front()}});
   if (!m.thesis_springs())
     for (int c = 0; c < msd::kEdgeClasses; ++c) {
       const msd::SpringLaw& law = m.edge_laws[static_cast<size_t>(c)];

@@ -140,18 +140,18 @@ MsdSpec parse_msd(const Fields& f) {
           "volume_factor", "damping_time", "repulsion_floor", "mass_lumping", "terms", "nonlinear_threshold",
           "integrator", "dt", "calibration", "rtol", "atol", "threads", "forces", "newton_tolerance",
           "newton_max_iterations", "newton_max_step_cuts", "newton_reuse_factorization", "newton_linear_solver",
-          "continuum_volume", "edge_classes"});
+          "continuum_volume", "edge_classes", "bulk_factor"});
   MsdSpec m;
   m.constants = choice(f, "msd.constants");
   const bool raw = m.constants == "raw";
   for (const char* k : {"k_s", "k_d", "k_r", "k_v"})
     if (!raw && f.has(k))
       throw msd::Error(f.where(k) + "raw constants need 'constants: raw'");
-  for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time", "calibration"})
+  for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time", "calibration", "bulk_factor"})
     if (raw && f.has(k))
       throw msd::Error(f.where(k) + "only meaningful with 'constants: physical'");
   if (f.has("calibration")) {
-    for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time", "edge_classes"})
+    for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time", "edge_classes", "bulk_factor"})
       if (f.has(k))
         throw msd::Error(f.where(k) + "given together with 'calibration', which sets it; give one or the other");
     m.calibration = f.text("calibration");
@@ -165,6 +165,7 @@ MsdSpec parse_msd(const Fields& f) {
     m.stiffness_scale = number(f, "msd.stiffness_scale");
     m.repulsion_factor = number(f, "msd.repulsion_factor");
     m.volume_factor = number(f, "msd.volume_factor");
+    m.bulk_factor = number(f, "msd.bulk_factor");
     m.damping_time = optional_number(f, "msd.damping_time");
   }
   m.repulsion_floor = number(f, "msd.repulsion_floor");
@@ -172,8 +173,13 @@ MsdSpec parse_msd(const Fields& f) {
   if (f.has("terms")) {
     m.terms = f.text_list("terms");
     for (const auto& t : m.terms)
-      one_of(f, "terms", t, {"springs", "dampers", "repulsion", "volume", "neo_hookean"});
+      one_of(f, "terms", t, {"springs", "dampers", "repulsion", "volume", "neo_hookean", "bulk"});
   }
+  const auto has_term = [&](const char* t) { return std::find(m.terms.begin(), m.terms.end(), t) != m.terms.end(); };
+  if (has_term("bulk") && has_term("neo_hookean"))
+    throw msd::Error(f.where("terms") + "bulk and neo_hookean are two volume terms: choose one");
+  if (f.has("bulk_factor") && !has_term("bulk"))
+    throw msd::Error(f.where("bulk_factor") + "only meaningful with the bulk term in 'terms'");
   if (auto classes = f.optional_section("edge_classes")) parse_edge_classes(*classes, m);
   m.continuum_volume = choice(f, "msd.continuum_volume");
   if (f.has("continuum_volume") && std::find(m.terms.begin(), m.terms.end(), "neo_hookean") == m.terms.end())
@@ -196,7 +202,7 @@ MsdSpec parse_msd(const Fields& f) {
       if (f.has(k)) throw msd::Error(f.where(k) + "only meaningful with 'integrator: cvode'");
     m.dt = number(f, "msd.dt");
   }
-  if (m.integrator == "backward_euler" || m.integrator == "bdf2") {
+  if (m.integrator == "backward_euler" || m.integrator == "bdf2" || m.integrator == "quasi_static") {
     m.newton_tolerance = number(f, "msd.newton_tolerance");
     m.newton_max_iterations = static_cast<int>(integer(f, "msd.newton_max_iterations"));
     m.newton_max_step_cuts = static_cast<int>(integer(f, "msd.newton_max_step_cuts"));
@@ -205,7 +211,7 @@ MsdSpec parse_msd(const Fields& f) {
   } else {
     for (const char* k : {"newton_tolerance", "newton_max_iterations", "newton_max_step_cuts", "newton_reuse_factorization",
                           "newton_linear_solver"})
-      if (f.has(k)) throw msd::Error(f.where(k) + "only meaningful with 'integrator: backward_euler' or 'bdf2'");
+      if (f.has(k)) throw msd::Error(f.where(k) + "only meaningful with 'integrator: backward_euler', 'bdf2' or 'quasi_static'");
   }
   return m;
 }
@@ -389,14 +395,21 @@ Spec parse_spec(const std::string& text, const std::string& source) {
     throw msd::Error(f.section("msd").where("dt") + "dt = " + tbio::json_number(s.msd->dt) +
                      " s leaves fewer than ten steps over the loading, which lasts " + tbio::json_number(end) +
                      " s: use at most " + tbio::json_number(end / 10.0) + " s");
+  if (s.msd && s.msd->integrator == "quasi_static" && s.loading.type == Loading::Vibration)
+    throw msd::Error(f.section("msd").where("integrator") +
+                     "quasi_static solves equilibria without inertia, and a vibration is inertia: use bdf2, backward_euler or an explicit integrator");
   if (s.msd && s.msd->constants == "physical" && !s.material.youngs_modulus)
     throw msd::Error(f.where("material") + "youngs_modulus is required for 'msd.constants: physical'");
-  if (s.msd && std::find(s.msd->terms.begin(), s.msd->terms.end(), "neo_hookean") != s.msd->terms.end()) {
-    if (s.msd->constants != "physical")
-      throw msd::Error(f.section("msd").where("terms") + "the neo_hookean term needs 'constants: physical' (E and Poisson's ratio)");
-    if (!s.material.poisson_ratio)
-      throw msd::Error(f.where("material") + "poisson_ratio is required for the msd term neo_hookean");
-  }
+  for (const char* term : {"neo_hookean", "bulk"})
+    if (s.msd && std::find(s.msd->terms.begin(), s.msd->terms.end(), term) != s.msd->terms.end()) {
+      if (s.msd->constants != "physical")
+        throw msd::Error(f.section("msd").where("terms") + "the " + term + " term needs 'constants: physical' (E and Poisson's ratio)");
+      if (!s.material.poisson_ratio)
+        throw msd::Error(f.where("material") + "poisson_ratio is required for the msd term " + term);
+      if (std::string(term) == "bulk" && !(*s.material.poisson_ratio > 0.25))
+        throw msd::Error(f.where("material") + "poisson_ratio must be above 0.25 for the msd term bulk (springs alone have 1/4; got " +
+                         tbio::json_number(*s.material.poisson_ratio) + ")");
+    }
   return s;
 }
 

@@ -268,3 +268,31 @@ TEST(Spec, EdgeClassesAreReadByNameAndABadClassOrLawIsRefusedNamingTheField) {
   EXPECT_NE(none.find("no stiffness"), std::string::npos) << none;
   EXPECT_NE(none.find("s.yaml:"), std::string::npos) << none;
 }
+
+TEST(Spec, TheBulkTermIsReadWithItsFactorAndRefusedWhereItCannotWork) {
+  const std::string with = replace(replace(kGood, "youngs_modulus: 5000}", "youngs_modulus: 5000, poisson_ratio: 0.49}"),
+                                   "dt: 1.0e-4}", "dt: 1.0e-4, terms: [springs, dampers, bulk], bulk_factor: 0.8}");
+  const bench::Spec s = bench::parse_spec(with, "s.yaml");
+  EXPECT_DOUBLE_EQ(s.msd->bulk_factor, 0.8);
+  EXPECT_EQ(s.msd->terms.back(), "bulk");
+  const auto says = [](const std::string& text, const std::string& what) {
+    const std::string e = error_of(text);
+    EXPECT_NE(e.find(what), std::string::npos) << e;
+  };
+  says(replace(with, "poisson_ratio: 0.49", "poisson_ratio: 0.2"), "s.yaml:4:11: material: poisson_ratio must be above 0.25 for the msd term bulk");
+  says(replace(with, ", poisson_ratio: 0.49", ""), "poisson_ratio is required for the msd term bulk");
+  says(replace(with, "bulk]", "bulk, neo_hookean]"), "msd.terms: bulk and neo_hookean are two volume terms");
+  says(replace(with, "springs, dampers, bulk", "springs, dampers"), "msd.bulk_factor: only meaningful with the bulk term");
+  says(replace(with, "bulk_factor: 0.8", "bulk_factor: 0"), "msd.bulk_factor");
+  says(replace(with, "constants: physical", "constants: raw, k_s: 1"), "msd.bulk_factor: only meaningful with 'constants: physical'");
+}
+
+TEST(Spec, QuasiStaticIsAnIntegratorWithNewtonsFieldsAndIsRefusedForAVibration) {
+  const std::string with = replace(kGood, "dt: 1.0e-4}", "dt: 1.0e-2, integrator: quasi_static, newton_tolerance: 1.0e-9}");
+  const bench::Spec s = bench::parse_spec(with, "s.yaml");
+  EXPECT_EQ(s.msd->integrator, "quasi_static");
+  EXPECT_DOUBLE_EQ(s.msd->newton_tolerance, 1e-9);
+  const std::string vib = error_of(replace(with, "loading: {type: uniaxial, path: [[0, 0], [1, 0.1]]}",
+                                           "loading: {type: vibration, initial: preload, traction: {face: top, force: [0, 0, 0.3]}, release: 1.0, duration: 0.5}"));
+  EXPECT_NE(vib.find("msd.integrator: quasi_static solves equilibria without inertia"), std::string::npos) << vib;
+}

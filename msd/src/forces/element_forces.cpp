@@ -1,5 +1,6 @@
 #include "msd/forces/element_forces.hpp"
 
+#include "msd/forces/bulk_volume.hpp"
 #include "msd/forces/edge_dampers.hpp"
 #include "msd/forces/edge_springs.hpp"
 #include "msd/forces/face_repulsion.hpp"
@@ -32,6 +33,7 @@ inline bool one_element(const Model& model, size_t t, const Vec3 x[4], const Vec
     if (terms & kDampers) add_edge_dampers(edges, v, el.k.k_d, f);
   }
   if (terms & kNeoHookean) add_continuum_element_forces(model, t, x, group_pressure, f);
+  if (terms & kBulk) add_bulk_forces(x, group_pressure[static_cast<size_t>(model.volume_groups.of_tet[t])], f);
   if (!(terms & (kRepulsion | kVolume))) return false;
   return add_nonlinear_element_forces(model, el, x, f);
 }
@@ -62,6 +64,15 @@ bool add_nonlinear_element_forces(const Model& model, const Element& el, const V
 double volume_group_pressure(const Model& model, int g, const Points& x) {
   const VolumeGroups& G = model.volume_groups;
   double volume = 0.0;
+  if (model.terms & kBulk) {
+    for (int q = G.tet_offset[static_cast<size_t>(g)]; q < G.tet_offset[static_cast<size_t>(g) + 1]; ++q) {
+      const Element& el = model.elements[static_cast<size_t>(G.tets[static_cast<size_t>(q)])];
+      Vec3 xe[4];
+      for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[static_cast<size_t>(i)]);
+      volume += tet_signed_volume(xe);
+    }
+    return bulk_pressure(volume, G.rest_volume[static_cast<size_t>(g)], G.bulk_modulus[static_cast<size_t>(g)]);
+  }
   for (int q = G.tet_offset[static_cast<size_t>(g)]; q < G.tet_offset[static_cast<size_t>(g) + 1]; ++q) {
     const size_t t = static_cast<size_t>(G.tets[static_cast<size_t>(q)]);
     const Element& el = model.elements[t];
@@ -89,7 +100,7 @@ long compute_internal_forces_reference(const Model& model, const Points& x, cons
   f.setZero(3, x.cols());
   long active = 0;
   std::vector<double> pressure(static_cast<size_t>(model.volume_groups.size()));
-  if (model.terms & kNeoHookean)
+  if (model.terms & (kNeoHookean | kBulk))
     for (int g = 0; g < model.volume_groups.size(); ++g) pressure[static_cast<size_t>(g)] = volume_group_pressure(model, g, x);
   for (size_t t = 0; t < model.elements.size(); ++t) {
     const Element& el = model.elements[t];
@@ -119,7 +130,7 @@ void element_forces(const Model& model, int e, const Points& x, const Points& v,
     f[i].setZero();
   }
   std::vector<double> pressure(static_cast<size_t>(model.volume_groups.size()), 0.0);
-  if ((model.terms & kNeoHookean) && !model.volume_groups.empty()) {
+  if ((model.terms & (kNeoHookean | kBulk)) && !model.volume_groups.empty()) {
     const int g = model.volume_groups.of_tet[static_cast<size_t>(e)];
     pressure[static_cast<size_t>(g)] = volume_group_pressure(model, g, x);
   }
@@ -152,6 +163,13 @@ double conservative_energy(const Model& model, const Points& x) {
       const double lambda = model.continuum.constants[static_cast<size_t>(G.tets[static_cast<size_t>(G.tet_offset[static_cast<size_t>(g)])])].lambda;
       const double p = volume_group_pressure(model, g, x);
       u += G.rest_volume[static_cast<size_t>(g)] * p * p / (2.0 * lambda);
+    }
+  // The bulk term's, V0_g K/2 (Jbar_g - 1)^2 = V0_g p_g^2 / (2 K) (bulk_volume.hpp).
+  if (model.terms & kBulk)
+    for (int g = 0; g < model.volume_groups.size(); ++g) {
+      const double p = volume_group_pressure(model, g, x);
+      u += model.volume_groups.rest_volume[static_cast<size_t>(g)] * p * p /
+           (2.0 * model.volume_groups.bulk_modulus[static_cast<size_t>(g)]);
     }
   return u;
 }

@@ -1,5 +1,6 @@
 #include "msd/forces/force_engine.hpp"
 
+#include "msd/forces/bulk_volume.hpp"
 #include "msd/forces/edge_dampers.hpp"
 #include "msd/forces/edge_springs.hpp"
 #include "msd/forces/spring_law.hpp"
@@ -124,6 +125,7 @@ bool tet_terms(const Model& model, size_t t, const Points& x, const std::vector<
   for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[i]);
   Vec3 f[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
   if (model.terms & kNeoHookean) add_continuum_element_forces(model, t, xe, group_pressure, f);
+  if (model.terms & kBulk) add_bulk_forces(xe, group_pressure[static_cast<size_t>(model.volume_groups.of_tet[t])], f);
   const bool active = (model.terms & (kRepulsion | kVolume)) && add_nonlinear_element_forces(model, el, xe, f);
   for (int i = 0; i < 4; ++i)
     for (int c = 0; c < 3; ++c) corner[3 * i + c] = f[i][c];
@@ -140,7 +142,7 @@ long compute_forces_fast(const Model& model, const Points& x, const Points& v, P
                 " - 1 nodes, the state " + std::to_string(n) + " (a model not made by build_model?)");
   const bool springs = model.terms & kSprings, dampers = model.terms & kDampers;
   const bool edges = (springs || dampers) && ne > 0;
-  const bool tets = (model.terms & (kRepulsion | kVolume | kNeoHookean)) && nt > 0;
+  const bool tets = (model.terms & (kRepulsion | kVolume | kNeoHookean | kBulk)) && nt > 0;
   if (f.cols() != n) f.resize(3, n);
   if (edges && buffers.edge_force.cols() != ne) buffers.edge_force.resize(3, ne);
   if (tets && buffers.corner_force.cols() != 4 * nt) buffers.corner_force.resize(3, 4 * nt);
@@ -149,7 +151,7 @@ long compute_forces_fast(const Model& model, const Points& x, const Points& v, P
   double* cf = buffers.corner_force.data();
   // A pass a model does not have runs no iterations.
   const long edge_blocks = edges ? (ne + 1023) / 1024 : 0, tet_count = tets ? nt : 0;
-  const long group_count = (model.terms & kNeoHookean) ? model.volume_groups.size() : 0;
+  const long group_count = (model.terms & (kNeoHookean | kBulk)) ? model.volume_groups.size() : 0;
   if (buffers.group_pressure.size() != static_cast<size_t>(group_count)) buffers.group_pressure.resize(static_cast<size_t>(group_count));
   std::vector<double>& pressure = buffers.group_pressure;
   long active = 0;

@@ -1,5 +1,6 @@
 #include "msd/integrate/implicit.hpp"
 
+#include "msd/forces/bulk_volume.hpp"
 #include "msd/forces/element_forces.hpp"
 #include "msd/forces/jacobians.hpp"
 #include "msd/forces/parts.hpp"
@@ -224,24 +225,32 @@ void assemble_parts(const Model& model, const SystemLayout& L, const Points& x, 
 
 // The volume groups' coupling, -(lambda / V0_g) g g^T with g = sum over the
 // group's tets of dV_t/dx (stable_neo_hookean.hpp), times c_k.
+// With the bulk term (bulk_volume.hpp) the modulus is its K.
 void assemble_volume_groups(const Model& model, const SystemLayout& L, const Points& x, double c_k, double* values) {
   const VolumeGroups& G = model.volume_groups;
+  const bool bulk = model.terms & kBulk;
   thread_local Eigen::Matrix3Xd grad;
   for (int g = 0; g < G.size(); ++g) {
     const size_t gi = static_cast<size_t>(g);
     const int m = G.node_offset[gi + 1] - G.node_offset[gi];
     grad.setZero(3, m);
-    double lambda = 0.0;
+    double modulus = bulk ? G.bulk_modulus[gi] : 0.0;
     for (int q = G.tet_offset[gi]; q < G.tet_offset[gi + 1]; ++q) {
       const size_t t = static_cast<size_t>(G.tets[static_cast<size_t>(q)]);
       const Element& el = model.elements[t];
       Vec3 xe[4];
       for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[static_cast<size_t>(i)]);
-      const Eigen::Matrix<double, 3, 4> dv = volume_gradient(xe, model.continuum.dm_inv[t], el.rest_volume);
-      for (int i = 0; i < 4; ++i) grad.col(G.corner_slot[4 * t + static_cast<size_t>(i)]) += dv.col(i);
-      lambda = model.continuum.constants[t].lambda;
+      if (bulk) {
+        Vec3 dv[4];
+        tet_volume_gradient(xe, dv);
+        for (int i = 0; i < 4; ++i) grad.col(G.corner_slot[4 * t + static_cast<size_t>(i)]) += dv[i];
+      } else {
+        const Eigen::Matrix<double, 3, 4> dv = volume_gradient(xe, model.continuum.dm_inv[t], el.rest_volume);
+        for (int i = 0; i < 4; ++i) grad.col(G.corner_slot[4 * t + static_cast<size_t>(i)]) += dv.col(i);
+        modulus = model.continuum.constants[t].lambda;
+      }
     }
-    const double c = -c_k * lambda / G.rest_volume[gi];
+    const double c = -c_k * modulus / G.rest_volume[gi];
     const int* ids = L.group_block.data() + L.group_block_offset[gi];
     for (int i = 0; i < m; ++i)
       for (int j = 0; j < m; ++j) add_block(values, L, ids[i * m + j], grad.col(i) * grad.col(j).transpose(), c);
@@ -288,13 +297,14 @@ void assemble_system(const Model& model, const SystemLayout& L, const Points& x,
       }
     }
   const bool nonlinear = model.terms & (kRepulsion | kVolume), continuum = model.terms & kNeoHookean;
+  const bool bulk = model.terms & kBulk;
   const VolumeGroups& groups = model.volume_groups;
   thread_local std::vector<double> pressure;
-  if (c_k != 0.0 && continuum) {
+  if (c_k != 0.0 && (continuum || bulk)) {
     pressure.resize(static_cast<size_t>(groups.size()));
     for (int g = 0; g < groups.size(); ++g) pressure[static_cast<size_t>(g)] = volume_group_pressure(model, g, x);
   }
-  if (c_k != 0.0 && (nonlinear || continuum)) {
+  if (c_k != 0.0 && (nonlinear || continuum || bulk)) {
     Mat12 K, Kc;
     for (size_t t = 0; t < model.elements.size(); ++t) {
       const Element& el = model.elements[t];
@@ -311,6 +321,9 @@ void assemble_system(const Model& model, const SystemLayout& L, const Points& x,
           K += Kc;
         else
           K = Kc;
+      } else if (bulk) {
+        if (!active) K.setZero();
+        add_bulk_pressure_jacobian(xe, pressure[static_cast<size_t>(groups.of_tet[t])], K);
       } else if (!active) {
         continue;
       }
@@ -320,7 +333,7 @@ void assemble_system(const Model& model, const SystemLayout& L, const Points& x,
                     K.block<3, 3>(3 * i, 3 * j), c_k);
     }
   }
-  if (c_k != 0.0 && continuum) assemble_volume_groups(model, L, x, c_k, values);
+  if (c_k != 0.0 && (continuum || bulk)) assemble_volume_groups(model, L, x, c_k, values);
   if (c_k != 0.0 || c_d != 0.0) assemble_parts(model, L, x, v, joints, controls, c_d, c_k, values);
 }
 
@@ -364,6 +377,13 @@ struct ImplicitWorkspace {
   std::vector<int> held_before;    // the held nodes of the last factorisation
   std::vector<int> sliding_index;  // per node: its index in `held` if held sliding, else -1
   std::vector<char> fixed;  // per degree of freedom: layout.fixed or held (stick)
+  // Quasi-static (step_quasi_static): G = -h (f(x1, 0) + load), no inertia,
+  // the forces at zero velocity (no dampers); `still` holds those zeros.
+  bool statics = false;
+  Points still;
+  // Quasi-static: the load scale the state is in equilibrium with (0 before
+  // the first step), so a cut step's first half takes the load halfway.
+  double load_from = 0.0;
 };
 
 namespace {
@@ -386,6 +406,7 @@ ImplicitWorkspace& workspace(const Model& model, Scratch& scratch) {
     w.muscles = model.muscles.size();
     w.skin = model.skin.triangles.size();
     w.volume_groups = model.volume_groups.size();
+    w.load_from = 0.0;
     w.model = &model;
   }
   return w;
@@ -518,7 +539,10 @@ double residual(const Model& model, const State& s, const Controls& c, const std
                 double time, double h, ImplicitWorkspace& w, Scratch& scratch, double& scale, double& l2) {
   State& at = w.at;  // evaluate_forces reads x, v and the joints
   at.x.swap(w.x1);
-  at.v.swap(w.v1);
+  if (w.statics)
+    at.v.setZero(3, at.x.cols());
+  else
+    at.v.swap(w.v1);
   at.joints = joints;
   at.t = time;
   at.step = s.step + 1;
@@ -529,17 +553,23 @@ double residual(const Model& model, const State& s, const Controls& c, const std
     finite = false;  // an iterate that degenerates an element: no residual
   }
   w.x1.swap(at.x);
-  w.v1.swap(at.v);
+  if (!w.statics) w.v1.swap(at.v);
   if (!finite) {
     scale = l2 = std::numeric_limits<double>::infinity();
     return scale;
   }
   const Points& f = scratch.f;
   // The balance's largest term: momenta (their round-off bounds how small G
-  // can get), the momentum change, and the forces times dt.
-  scale = std::max((w.v1 * model.mass.asDiagonal()).cwiseAbs().maxCoeff(),
-                   (w.v_base * model.mass.asDiagonal()).cwiseAbs().maxCoeff());
-  w.r = (w.v1 - w.v_base) * model.mass.asDiagonal();
+  // can get), the momentum change, and the forces times dt. Quasi-static:
+  // the forces and loads alone.
+  if (w.statics) {
+    scale = 0.0;
+    w.r.setZero(3, f.cols());
+  } else {
+    scale = std::max((w.v1 * model.mass.asDiagonal()).cwiseAbs().maxCoeff(),
+                     (w.v_base * model.mass.asDiagonal()).cwiseAbs().maxCoeff());
+    w.r = (w.v1 - w.v_base) * model.mass.asDiagonal();
+  }
   scale = std::max({scale, w.r.cwiseAbs().maxCoeff(), h * f.cwiseAbs().maxCoeff(), h * w.load.cwiseAbs().maxCoeff()});
   w.r -= h * (f + w.load);
   // The held nodes' rows: h times the force that holds them; a sliding
@@ -587,6 +617,12 @@ double round_off_force(const Model& model) {
       const SnhConstants& c = model.continuum.constants[t];
       f = std::max(f, (c.mu + c.lambda) * std::cbrt(model.elements[t].rest_volume * model.elements[t].rest_volume));
     }
+  // The bulk term's: K times a group's face area.
+  if (model.terms & kBulk)
+    for (int g = 0; g < model.volume_groups.size(); ++g) {
+      const double v0 = model.volume_groups.rest_volume[static_cast<size_t>(g)];
+      f = std::max(f, model.volume_groups.bulk_modulus[static_cast<size_t>(g)] * std::cbrt(v0 * v0));
+    }
   return 1e3 * std::numeric_limits<double>::epsilon() * f;
 }
 
@@ -627,6 +663,19 @@ void solve(const Model& model, ImplicitWorkspace& w) {
 // balance's largest term, and never below the round-off force times h.
 double tolerance(const Model& model, double scale, double h, const ImplicitWorkspace& w) {
   return std::max(model.newton.tolerance * scale, h * w.force_floor);
+}
+
+// Whether the quasi-static balance is the gradient of conservative_energy
+// minus the loads' work: every force term has an energy (not the thesis'
+// volume term) and there are no moving parts, obstacles or contacts.
+bool has_potential(const Model& model) {
+  return !(model.terms & kVolume) && model.strands.empty() && model.muscles.empty() && model.joints.empty() &&
+         model.skin.triangles.empty() && model.obstacles.empty() && !model.self_contact;
+}
+
+// The potential energy at the iterate w.x1: stored energy minus the dead loads' work.
+double potential_energy(const Model& model, const ImplicitWorkspace& w) {
+  return conservative_energy(model, w.x1) - (w.load.array() * w.x1.array()).sum();
 }
 
 // What the last Newton solve reached.
@@ -684,7 +733,10 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
       w.r = w.r_keep;
       positions_from_velocities(model, c, joints, h, w);
     }
-    assemble_system(model, w.layout, w.x1, w.v1, joints, c, 1.0, -h, -h * h, w.A);
+    if (w.statics)  // G = -h (f(x1, 0) + load): only the stiffness, at zero velocity
+      assemble_system(model, w.layout, w.x1, w.still, joints, c, 0.0, 0.0, -h * h, w.A);
+    else
+      assemble_system(model, w.layout, w.x1, w.v1, joints, c, 1.0, -h, -h * h, w.A);
     fix_prescribed(w.fixed, w.A);
     hold_sliding_in_matrix(w.layout, w, w.A);
     w.factored = factorize(model, w);
@@ -700,15 +752,21 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
     solve(model, w);
     // Backtracking on |G| (the exact Newton direction descends it; the
     // symmetric part's, near it, as a rule): halve the update until |G|
-    // decreases, at most 10 times.
+    // decreases, at most 10 times. Quasi-static with a potential energy: an
+    // update that lowers the energy is accepted too - near incompressibility
+    // the linearised step's rotations change volumes to second order, so |G|
+    // grows at the full step, which is still the way to the equilibrium (the
+    // FEM reference's line search is on its energy for the same reason).
     w.v_trial = w.v1;
+    const bool by_energy = w.statics && has_potential(model);
+    const double e0 = by_energy ? potential_energy(model, w) : 0.0;
     double alpha = 1.0;
     for (int ls = 0;; ++ls) {
       w.v1 = w.v_trial + alpha * Eigen::Map<const Points>(w.delta.data(), 3, model.num_nodes());
       positions_from_velocities(model, c, joints, h, w);
       double scale = 0.0, trial_l2 = 0.0;
       const double trial = residual(model, s, c, joints, time, h, w, scratch, scale, trial_l2);
-      if (trial_l2 < l2 || ls == 10) {
+      if (trial_l2 < l2 || ls == 10 || (by_energy && std::isfinite(trial_l2) && potential_energy(model, w) < e0)) {
         out.residual = trial;
         out.scale = scale;
         l2 = trial_l2;
@@ -753,6 +811,13 @@ double set_base(const State& s, double dt, bool bdf2, ImplicitWorkspace& w) {
   return dt;
 }
 
+// The dead loads at load scale `scale`: scale (f_ext + M g).
+void set_load(const Model& model, double scale, ImplicitWorkspace& w) {
+  w.load.setZero(3, model.num_nodes());
+  if (model.external_force.cols() == model.num_nodes()) w.load = scale * model.external_force;
+  if (model.terms & kGravity) w.load += (scale * model.gravity) * model.mass.transpose();
+}
+
 // Advances s by dt to `time`: one Newton solve, or - when it fails - two
 // half steps (prescribed offsets and joint states halfway), up to
 // max_step_cuts times. The joints go from `from` to `to` over the step.
@@ -762,6 +827,7 @@ void advance(const Model& model, State& s, const Controls& c, const std::vector<
              const std::vector<HingeState>& to, double time, double dt, int cuts, bool bdf2,
              ImplicitWorkspace& w, Scratch& scratch) {
   const double h = set_base(s, dt, bdf2, w);
+  set_load(model, c.load_scale, w);
   hold_contacts(model, s, c, dt, w);
   // The first iterate: the velocity now (backward Euler), or with BDF2's
   // history the velocity extrapolated linearly to the step's end.
@@ -780,6 +846,7 @@ void advance(const Model& model, State& s, const Controls& c, const std::vector<
   }
   if (r.converged) {
     settle_sliding(model, c, w);
+    w.load_from = c.load_scale;
     if (bdf2) {
       s.x_prev.swap(s.x);
       s.v_prev.swap(s.v);
@@ -793,12 +860,15 @@ void advance(const Model& model, State& s, const Controls& c, const std::vector<
     Eigen::Index axis = 0, node = 0;
     w.r.cwiseAbs().maxCoeff(&axis, &node);
     std::ostringstream m;
-    m << (bdf2 ? "BDF2" : "backward Euler") << ": Newton " << r.why << " after " << r.iterations << " iterations with the step cut "
+    m << (w.statics ? "quasi-static" : bdf2 ? "BDF2" : "backward Euler") << ": Newton " << r.why << " after " << r.iterations << " iterations with the step cut "
       << cuts << " times to " << dt << " s (residual " << r.residual / h << " N, tolerance "
       << tolerance(model, r.scale, h, w) / h << " N)";
     throw SimulationFailure(m.str(), time, s.step + 1, -1, static_cast<int>(node));
   }
   Controls mid = c;
+  // Quasi-static: the load halfway too (the equilibria between are a
+  // continuation path to the step's end). Dynamic steps keep the end's load.
+  if (w.statics) mid.load_scale = 0.5 * (w.load_from + c.load_scale);
   for (size_t g = 0; g < model.groups.size(); ++g)
     mid.group_offset[g] = 0.5 * (group_offset_now(model, s, g, c.group_offset[g]) + c.group_offset[g]);
   // A rigid motion halfway: its second-order Taylor estimate half a step back.
@@ -817,15 +887,12 @@ void advance(const Model& model, State& s, const Controls& c, const std::vector<
 namespace {
 
 void step_implicit(const Model& model, State& state, const Controls& controls, double dt, bool bdf2,
-                   Scratch& scratch) {
+                   Scratch& scratch, bool statics = false) {
   ImplicitWorkspace& w = workspace(model, scratch);
+  w.statics = statics;
+  if (statics) w.still.setZero(3, model.num_nodes());
   if (controls.group_offset.size() < model.groups.size() || controls.group_velocity.size() < model.groups.size())
     throw Error(std::string(bdf2 ? "BDF2" : "backward Euler") + ": controls for " + std::to_string(model.groups.size()) + " kinematic groups needed");
-  const double s = controls.load_scale;
-  // Dead loads: s f_ext + s M g.
-  w.load.setZero(3, model.num_nodes());
-  if (model.external_force.cols() == model.num_nodes()) w.load = s * model.external_force;
-  if (model.terms & kGravity) w.load += (s * model.gravity) * model.mass.transpose();
   scratch.last_newton_iterations = 0;
   scratch.last_step_cuts = 0;
   w.force_floor = round_off_force(model);
@@ -848,6 +915,13 @@ void step_backward_euler(const Model& model, State& state, const Controls& contr
 
 void step_bdf2(const Model& model, State& state, const Controls& controls, double dt, Scratch& scratch) {
   step_implicit(model, state, controls, dt, true, scratch);
+}
+
+void step_quasi_static(const Model& model, State& state, const Controls& controls, double dt, Scratch& scratch) {
+  if (!model.joints.empty())
+    throw Error("quasi-static: the model has " + std::to_string(model.joints.size()) +
+                " joints, whose motion is dynamic; use backward_euler or bdf2");
+  step_implicit(model, state, controls, dt, false, scratch, true);
 }
 
 }  // namespace msd

@@ -15,8 +15,9 @@ Integrator parse_integrator(const std::string& name) {
   if (name == "velocity_verlet") return Integrator::VelocityVerlet;
   if (name == "backward_euler") return Integrator::BackwardEuler;
   if (name == "bdf2") return Integrator::Bdf2;
+  if (name == "quasi_static") return Integrator::QuasiStatic;
   throw Error("unknown integrator '" + name +
-              "' (expected explicit_euler, symplectic_euler, velocity_verlet, backward_euler or bdf2)");
+              "' (expected explicit_euler, symplectic_euler, velocity_verlet, backward_euler, bdf2 or quasi_static)");
 }
 
 std::string to_string(Integrator integrator) {
@@ -26,6 +27,7 @@ std::string to_string(Integrator integrator) {
     case Integrator::VelocityVerlet: return "velocity_verlet";
     case Integrator::BackwardEuler: return "backward_euler";
     case Integrator::Bdf2: return "bdf2";
+    case Integrator::QuasiStatic: return "quasi_static";
   }
   return "?";
 }
@@ -329,6 +331,9 @@ void step(const Model& model, State& state, const Controls& controls, double dt,
       state.a_valid = true;
       break;
     }
+    case Integrator::QuasiStatic:
+      step_quasi_static(model, state, controls, dt, scratch);
+      break;
     case Integrator::BackwardEuler:
     case Integrator::Bdf2:
       if (joints) {

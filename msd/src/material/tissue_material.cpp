@@ -35,12 +35,23 @@ void check_material(const TissueMaterial& m, const std::string& where) {
     finite_nonneg(m.damping_time, "damping_time");
     finite_nonneg(m.repulsion_factor, "repulsion_factor");
     finite_nonneg(m.volume_factor, "volume_factor");
+    require(std::isfinite(m.bulk_factor) && m.bulk_factor > 0.0, where, "bulk_factor", "positive", m.bulk_factor);
     if (m.poisson_ratio)
       require(*m.poisson_ratio > -1.0 && *m.poisson_ratio < 0.5, where, "poisson_ratio", "in (-1, 0.5)", *m.poisson_ratio);
   }
   for (int c = 0; c < kEdgeClasses; ++c)
     check_spring_law(m.edge_laws[static_cast<size_t>(c)],
                      where + ": edge_classes." + to_string(static_cast<EdgeClass>(c)));
+}
+
+double lattice_bulk_modulus(const TissueMaterial& m, const std::string& where) {
+  if (m.mode != ConstantsMode::Physical || !m.poisson_ratio)
+    throw Error(where + ": the bulk term needs physical constants with a Poisson's ratio (youngs_modulus, poisson_ratio)");
+  const double nu = *m.poisson_ratio;
+  require(nu > 0.25, where, "poisson_ratio", "above 0.25 for the bulk term (springs alone have nu = 1/4)", nu);
+  const double e = m.youngs_modulus;
+  const double lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), mu = e / (2.0 * (1.0 + nu));
+  return m.bulk_factor * m.stiffness_scale * (lambda - mu);
 }
 
 bool TissueMaterial::thesis_springs() const {

@@ -16,14 +16,15 @@ ForceTerm parse_force_term(const std::string& name) {
   if (name == "volume") return kVolume;
   if (name == "gravity") return kGravity;
   if (name == "neo_hookean") return kNeoHookean;
+  if (name == "bulk") return kBulk;
   throw Error("unknown force term '" + name +
-              "' (expected springs, dampers, repulsion, volume, gravity or neo_hookean)");
+              "' (expected springs, dampers, repulsion, volume, gravity, neo_hookean or bulk)");
 }
 
 std::string force_terms_to_string(unsigned terms) {
   std::string s;
-  const char* names[] = {"springs", "dampers", "repulsion", "volume", "gravity", "neo_hookean"};
-  for (int b = 0; b < 6; ++b)
+  const char* names[] = {"springs", "dampers", "repulsion", "volume", "gravity", "neo_hookean", "bulk"};
+  for (int b = 0; b < 7; ++b)
     if (terms & (1u << b)) s += (s.empty() ? "" : ",") + std::string(names[b]);
   return s;
 }
@@ -40,7 +41,8 @@ namespace {
 
 // The groups of ModelOptions::volume_group, numbered in order of first appearance.
 VolumeGroups make_volume_groups(const Model& model, const std::vector<long>& label) {
-  if (!(model.terms & kNeoHookean)) throw Error("volume groups are given but the model has no neo_hookean term");
+  if (!(model.terms & (kNeoHookean | kBulk)))
+    throw Error("volume groups are given but the model has neither the neo_hookean nor the bulk term");
   const size_t nt = model.elements.size();
   if (label.size() != nt)
     throw Error("volume groups: " + std::to_string(label.size()) + " labels for " + std::to_string(nt) + " tets");
@@ -77,6 +79,11 @@ VolumeGroups make_volume_groups(const Model& model, const std::vector<long>& lab
       }
     }
     g.node_offset.push_back(static_cast<int>(g.nodes.size()));
+    if (model.terms & kBulk) {
+      const int r = model.elements[static_cast<size_t>(first)].region;
+      g.bulk_modulus.push_back(
+          lattice_bulk_modulus(model.region_materials[static_cast<size_t>(r)], "material of region " + std::to_string(r)));
+    }
   }
   return g;
 }
@@ -163,6 +170,10 @@ Model build_model(const TetMesh& mesh, const ModelOptions& options) {
   for (int i = 0; i < n; ++i)
     if (!(model.mass[i] > 0.0)) throw Error("node " + std::to_string(i) + " belongs to no tet (zero mass)");
   model.inv_mass = model.mass.cwiseInverse();
+  if ((options.terms & kBulk) && (options.terms & kNeoHookean))
+    throw Error("the bulk term and the neo_hookean term are two volume terms for one model: choose one");
+  if ((options.terms & kBulk) && options.volume_group.empty())
+    throw Error("the bulk term needs volume groups (ModelOptions::volume_group: the lattice's cubes)");
   if (!options.volume_group.empty()) model.volume_groups = make_volume_groups(model, options.volume_group);
   model.plan = make_force_plan(model.elements, model.region_materials, n);
 

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -271,6 +272,36 @@ TEST(Implicit, AssembledJacobiansOfTheNeoHookeanElementWithCubeVolumesMatchFinit
   msd::assemble_system(m, L, x, v, 0.0, 0.0, 1.0, K);
   const Eigen::MatrixXd Kfd = fd_jacobian(m, x, v, false, 1e-7);
   EXPECT_LT((Eigen::MatrixXd(K) - Kfd).cwiseAbs().maxCoeff(), 1e-6 * Kfd.cwiseAbs().maxCoeff());
+}
+
+TEST(Implicit, AssembledJacobiansOfTheLatticesBulkTermMatchFiniteDifferences) {
+  // The bulk term per cube (bulk_volume.hpp): its pressure times each tet's
+  // volume Hessian, and the coupling of a cube's eight nodes; with the
+  // thesis' repulsion and volume terms and the edge classes' laws beside it.
+  msd::ModelOptions mo;
+  const msd::TetMesh mesh = block_mesh(msd::kSprings | msd::kDampers | msd::kRepulsion | msd::kVolume | msd::kBulk, 1,
+                                       3000.0, mo);
+  mo.region_materials[0].edge_laws[0] = {0.5, 1.0, 1.5};
+  msd::SampleMeshOptions o;
+  o.spacing = 0.01;
+  mo.volume_group = msd::mesh_closed_surface(msd::make_box(Vec3::Zero(), Vec3(0.03, 0.02, 0.04)), o, "block").info.tet_cube_id;
+  const msd::Model m = msd::build_model(mesh, mo);
+  ASSERT_EQ(m.volume_groups.bulk_modulus.size(), static_cast<size_t>(m.volume_groups.size()));
+  msd::Points x, v;
+  deform(m, 0.45, 0.001, x, v);
+  const msd::SystemLayout L = msd::make_system_layout(m);
+  Eigen::SparseMatrix<double> K = L.pattern;
+  msd::assemble_system(m, L, x, v, 0.0, 0.0, 1.0, K);
+  const Eigen::MatrixXd Kfd = fd_jacobian(m, x, v, false, 1e-7);
+  EXPECT_LT((Eigen::MatrixXd(K) - Kfd).cwiseAbs().maxCoeff(), 1e-6 * Kfd.cwiseAbs().maxCoeff());
+  // The bulk term matters here (at nu = 0.45 its K = lambda - mu is about 2.8 E;
+  // the thesis' terms, crushed to 0.45, dominate the largest entries).
+  mo.terms &= ~msd::kBulk;
+  mo.volume_group.clear();
+  const msd::Model without = msd::build_model(mesh, mo);
+  Eigen::SparseMatrix<double> K0 = L.pattern;
+  msd::assemble_system(without, L, x, v, 0.0, 0.0, 1.0, K0);
+  EXPECT_GT((Eigen::MatrixXd(K) - Eigen::MatrixXd(K0)).cwiseAbs().maxCoeff(), 0.01 * Kfd.cwiseAbs().maxCoeff());
 }
 
 TEST(Implicit, ExtremeCompressionOfTheNeoHookeanElementEndsFiniteAndUninvertedWithBdf2) {
@@ -909,4 +940,112 @@ TEST(Implicit, AssembledJacobiansOfToeStrandsAndHillMusclesMatchFiniteDifference
   Eigen::SparseMatrix<double> D0 = L.pattern;
   msd::assemble_system(plain, L, s.x, s.v, s.joints, c, 0.0, 1.0, 0.0, D0);
   EXPECT_GT((Eigen::MatrixXd(D) - Eigen::MatrixXd(D0)).cwiseAbs().maxCoeff(), 0.01 * Dfd.cwiseAbs().maxCoeff());
+}
+
+namespace {
+
+// A 5 x 1 x 1 cm cantilever of the lattice (h = 5 mm), clamped at x = 0 (a
+// kinematic group), a dead load of `load` N in -z spread over its free end;
+// isotropic springs and the bulk term at nu = 0.495 (nearly incompressible).
+msd::Model cantilever(double load, unsigned terms = msd::kSprings | msd::kDampers | msd::kBulk) {
+  msd::SampleMeshOptions o;
+  o.spacing = 0.005;
+  const auto s = msd::mesh_closed_surface(msd::make_box(Vec3::Zero(), Vec3(0.05, 0.01, 0.01)), o, "beam");
+  msd::TissueMaterial mat;
+  mat.mode = msd::ConstantsMode::Physical;
+  mat.density = 1040;
+  mat.youngs_modulus = 14950;
+  mat.damping_time = 4.2e-3;
+  mat.poisson_ratio = 0.495;
+  const double d = 3 * (14950 / (2 * 1.495)) / (msd::kLatticeStiffnessFactor * 14950);  // C44 = mu (bulk_volume.hpp)
+  mat.edge_laws[0].stiffness = d / 2;
+  mat.edge_laws[1].stiffness = d;
+  msd::ModelOptions mo;
+  mo.terms = terms;
+  mo.region_materials = {mat};
+  if (terms & msd::kBulk) mo.volume_group = s.info.tet_cube_id;
+  msd::KinematicGroup clamp{"clamp", {}, {true, true, true}};
+  std::vector<int> tip;
+  for (int i = 0; i < s.mesh.num_nodes(); ++i) {
+    if (s.mesh.nodes(0, i) < 1e-9) clamp.nodes.push_back(i);
+    if (s.mesh.nodes(0, i) > 0.05 - 1e-9) tip.push_back(i);
+  }
+  mo.groups = {clamp};
+  mo.external_force = msd::Points::Zero(3, s.mesh.num_nodes());
+  for (int i : tip) mo.external_force(2, i) = -load / static_cast<double>(tip.size());
+  return msd::build_model(s.mesh, mo);
+}
+
+}  // namespace
+
+TEST(QuasiStatic, ANearlyIncompressibleCantileverReachesItsEquilibriumAtEveryLoadStep) {
+  // Four load steps to a tip load that bends it visibly. Each step ends in
+  // equilibrium - f(x, 0) + load = 0 on the free nodes - at a minimum of the
+  // potential energy, in a few Newton iterations: near incompressibility the
+  // linearised step's rotations change volumes to second order, and the
+  // energy line search (not |G| alone) lets Newton take them.
+  const double load = 2e-3;
+  const msd::Model m = cantilever(load);
+  msd::State s = msd::rest_state(m);
+  msd::Scratch scratch;
+  msd::Controls c = at_rest(m);
+  double tip = 0.0;
+  for (int k = 1; k <= 4; ++k) {
+    c.load_scale = 0.25 * k;
+    ASSERT_NO_THROW(msd::step(m, s, c, 0.25, msd::Integrator::QuasiStatic, scratch)) << k;
+    EXPECT_LE(scratch.last_newton_iterations, 12) << k;
+    EXPECT_EQ(scratch.last_step_cuts, 0) << k;
+    msd::Points f, zero = msd::Points::Zero(3, s.x.cols());
+    msd::compute_internal_forces(m, s.x, zero, f);
+    const msd::Points balance = f + c.load_scale * m.external_force;
+    double worst = 0.0;
+    for (int i = 0; i < m.num_nodes(); ++i)
+      if (std::find(m.groups[0].nodes.begin(), m.groups[0].nodes.end(), i) == m.groups[0].nodes.end())
+        worst = std::max(worst, balance.col(i).cwiseAbs().maxCoeff());
+    EXPECT_LT(worst, 1e-6 * c.load_scale * load) << k;
+    const double now = s.x.row(2).minCoeff();
+    EXPECT_LT(now, tip) << k;  // each load step bends it further
+    tip = now;
+  }
+  EXPECT_LT(tip, -0.002);  // bent by more than 4 % of its length
+  // A minimum: moving any of a few free nodes raises the potential energy.
+  const auto potential = [&](const msd::Points& x) {
+    return msd::conservative_energy(m, x) - (m.external_force.array() * x.array()).sum();
+  };
+  const double u0 = potential(s.x);
+  for (int node : {m.num_nodes() - 1, m.num_nodes() / 2})
+    for (int a = 0; a < 3; ++a)
+      for (double e : {1e-5, -1e-5}) {
+        msd::Points y = s.x;
+        y(a, node) += e;
+        EXPECT_GT(potential(y), u0) << node << " " << a << " " << e;
+      }
+  // No inertia: the same load reached in one step lands on the same equilibrium.
+  msd::State once = msd::rest_state(m);
+  msd::Scratch scratch1;
+  ASSERT_NO_THROW(msd::step(m, once, c, 1.0, msd::Integrator::QuasiStatic, scratch1));
+  EXPECT_LT((once.x - s.x).cwiseAbs().maxCoeff(), 1e-6 * std::abs(tip));
+}
+
+TEST(QuasiStatic, ItIsParsedByNameAndTheDampersDoNotActOnIt) {
+  EXPECT_EQ(msd::parse_integrator("quasi_static"), msd::Integrator::QuasiStatic);
+  EXPECT_EQ(msd::to_string(msd::Integrator::QuasiStatic), "quasi_static");
+  EXPECT_TRUE(msd::is_implicit(msd::Integrator::QuasiStatic));
+  // The equilibrium does not depend on how fast the load came: with and
+  // without dampers, in 1 s or in 1 ms, the same state.
+  const auto end = [](unsigned terms, double dt) {
+    const msd::Model m = cantilever(1e-3, terms);
+    msd::State s = msd::rest_state(m);
+    msd::Scratch scratch;
+    msd::Controls c = at_rest(m);
+    msd::step(m, s, c, dt, msd::Integrator::QuasiStatic, scratch);
+    return s.x;
+  };
+  const msd::Points slow = end(msd::kSprings | msd::kDampers | msd::kBulk, 1.0);
+  const msd::Points fast = end(msd::kSprings | msd::kDampers | msd::kBulk, 1e-3);
+  const msd::Points undamped = end(msd::kSprings | msd::kBulk, 1e-3);
+  const double scale = (slow - msd::rest_state(cantilever(1e-3)).x).cwiseAbs().maxCoeff();
+  ASSERT_GT(scale, 1e-4);
+  EXPECT_LT((slow - fast).cwiseAbs().maxCoeff(), 1e-6 * scale);
+  EXPECT_LT((fast - undamped).cwiseAbs().maxCoeff(), 1e-6 * scale);
 }

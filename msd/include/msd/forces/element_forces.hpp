@@ -28,8 +28,9 @@ long compute_internal_forces_reference(const Model& model, const Points& x, cons
 /// the fast engine.
 bool add_nonlinear_element_forces(const Model& model, const Element& el, const Vec3 x[4], Vec3 f[4]);
 
-/// The continuum element's pressure lambda (Jbar - alpha) of volume group g at
-/// x (msd/forces/stable_neo_hookean.hpp), Pa.
+/// The pressure of volume group g at x, Pa: the continuum element's
+/// lambda (Jbar - alpha) (msd/forces/stable_neo_hookean.hpp), or with the bulk
+/// term its K (Jbar - 1) (msd/forces/bulk_volume.hpp).
 double volume_group_pressure(const Model& model, int g, const Points& x);
 
 /// The continuum element's forces on tet t (vertices x[0..3]) added to f: its

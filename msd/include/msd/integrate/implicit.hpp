@@ -90,4 +90,19 @@ void step_backward_euler(const Model& model, State& state, const Controls& contr
 /// chosen for accuracy, but it damps a resolved vibration far less.
 void step_bdf2(const Model& model, State& state, const Controls& controls, double dt, Scratch& scratch);
 
+/// One quasi-static step (Integrator::QuasiStatic): the equilibrium at the
+/// step's end,
+///   f(x+, 0) + load(t + dt) = 0,
+/// prescribed nodes at their positions then - the problem the FEM reference
+/// solves for static, uni-axial and shear loading (docs/fem-reference.md,
+/// quasi-static solution). No inertia and no dampers (the forces are taken at
+/// zero velocity); the same Newton solve, step cuts and contacts as backward
+/// Euler with the matrix -dt^2 K. The state's velocity is the step's mean
+/// rate (x+ - x) / dt, the next step's predictor. Its matrix is singular when
+/// some part of the model is held by nothing (a free body, a sliding sample
+/// with nothing against its sideways drift); the step then fails with Newton's
+/// "singular matrix". A model with joints is refused (msd::Error): a hinge's
+/// motion is dynamic.
+void step_quasi_static(const Model& model, State& state, const Controls& controls, double dt, Scratch& scratch);
+
 }  // namespace msd

@@ -15,6 +15,8 @@
 //      y+ = 4/3 y - 1/3 y- + 2/3 dt F(y+) for y = (x, v), y- the state one
 //      step back (State::x_prev, v_prev); variable-step form when the last
 //      step had another length; a backward-Euler step where no history is.
+//  - Quasi-static (no inertia, no dampers; the same Newton solve):
+//      f(x+, 0) + load(t + dt) = 0 - the FEM reference's static problem.
 // Constrained components of kinematic-group nodes are set to the prescribed
 // position and velocity after each update; then surface nodes that entered a
 // rigid obstacle are moved out of it (msd/contact/rigid_obstacle.hpp).
@@ -26,13 +28,15 @@
 
 namespace msd {
 
-enum class Integrator { ExplicitEuler, SymplecticEuler, VelocityVerlet, BackwardEuler, Bdf2 };
+enum class Integrator { ExplicitEuler, SymplecticEuler, VelocityVerlet, BackwardEuler, Bdf2, QuasiStatic };
 
-/// Backward Euler and BDF2: Newton solves, msd::NewtonOptions apply.
-inline bool is_implicit(Integrator i) { return i == Integrator::BackwardEuler || i == Integrator::Bdf2; }
+/// Backward Euler, BDF2 and quasi-static: Newton solves, msd::NewtonOptions apply.
+inline bool is_implicit(Integrator i) {
+  return i == Integrator::BackwardEuler || i == Integrator::Bdf2 || i == Integrator::QuasiStatic;
+}
 
 /// Parses "explicit_euler", "symplectic_euler" (or "semi_implicit_euler"),
-/// "velocity_verlet", "backward_euler", "bdf2".
+/// "velocity_verlet", "backward_euler", "bdf2", "quasi_static".
 Integrator parse_integrator(const std::string& name);
 std::string to_string(Integrator integrator);
 

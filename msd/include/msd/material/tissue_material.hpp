@@ -69,12 +69,24 @@ struct TissueMaterial {
   /// the edge's k_s and k_d and its spring law (msd/forces/spring_law.hpp).
   /// The default, factor 1 and the linear law on every class, is the thesis'.
   std::array<SpringLaw, kEdgeClasses> edge_laws{};
+  /// A factor on the lattice's bulk term's modulus (lattice_bulk_modulus;
+  /// read only with the bulk term, msd/forces/bulk_volume.hpp).
+  double bulk_factor = 1.0;
   /// Whether every class is the thesis' linear spring of factor 1.
   bool thesis_springs() const;
 };
 
 /// Cauchy-Born factor of the five-tetrahedron cubic lattice (see above).
 inline constexpr double kLatticeStiffnessFactor = 5.0 / 6.0;
+
+/// The bulk modulus of the lattice's per-cube bulk term
+/// (msd/forces/bulk_volume.hpp): K = bulk_factor * stiffness_scale *
+/// (lambda - mu), lambda and mu of E and nu - what isotropic springs
+/// (lambda_s = mu_s = mu) lack of the continuum's small-strain elasticity.
+/// Throws msd::Error naming `where` unless the constants are physical with a
+/// Poisson's ratio above 1/4 (at or below it lambda <= mu: springs alone are
+/// already as compressible or less).
+double lattice_bulk_modulus(const TissueMaterial& m, const std::string& where);
 
 /// Throws msd::Error naming `where` and the field if a constant is unphysical
 /// (density <= 0, negative constants, E <= 0 in physical mode, floor not in

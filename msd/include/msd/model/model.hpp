@@ -69,9 +69,13 @@ enum ForceTerm : unsigned {
   /// (msd/forces/stable_neo_hookean.hpp): not a thesis term - the model
   /// ladder's continuum rung, from the material's E and Poisson's ratio.
   kNeoHookean = 1u << 5,
+  /// The lattice's bulk term, one volume ratio per volume group (a cube)
+  /// (msd/forces/bulk_volume.hpp): not a thesis term - the non-locking volume
+  /// term of the calibrated lattice, K from E and Poisson's ratio.
+  kBulk = 1u << 6,
 };
 
-/// Parses "springs", "dampers", "repulsion", "volume", "gravity", "neo_hookean".
+/// Parses "springs", "dampers", "repulsion", "volume", "gravity", "neo_hookean", "bulk".
 ForceTerm parse_force_term(const std::string& name);
 std::string force_terms_to_string(unsigned terms);
 
@@ -119,8 +123,9 @@ struct ForcePlan {
   int num_edges() const { return static_cast<int>(edge_a.size()); }
 };
 
-/// The continuum element's volume groups (mean dilatation,
-/// msd/forces/stable_neo_hookean.hpp): group g's tets are
+/// The volume groups (mean dilatation) of the continuum element
+/// (msd/forces/stable_neo_hookean.hpp) or of the lattice's bulk term
+/// (msd/forces/bulk_volume.hpp, which needs them): group g's tets are
 /// tets[tet_offset[g] .. tet_offset[g+1]), its distinct nodes
 /// nodes[node_offset[g] .. node_offset[g+1]) and corner_slot[4 t + i] is the
 /// place of tet t's corner i in its group's node list. Empty: every tet is
@@ -131,6 +136,7 @@ struct VolumeGroups {
   std::vector<int> of_tet;              ///< T: the group of each tet
   std::vector<int> corner_slot;         ///< 4 T
   std::vector<double> rest_volume;      ///< G, m^3
+  std::vector<double> bulk_modulus;     ///< G, Pa: the bulk term's K (kBulk), else empty
   int size() const { return static_cast<int>(rest_volume.size()); }
   bool empty() const { return rest_volume.empty(); }
 };
@@ -245,7 +251,7 @@ struct Model {
   std::vector<char> kinematic;        ///< per node: in a kinematic group (for self_contact)
   ForcePlan plan;   ///< the fast evaluation's layout (build_model)
   ContinuumElements continuum;  ///< the continuum element's rest data (kNeoHookean)
-  VolumeGroups volume_groups;  ///< the continuum element's (ModelOptions::volume_group)
+  VolumeGroups volume_groups;  ///< the continuum element's or the bulk term's (ModelOptions::volume_group)
   int threads = 1;  ///< threads of the force evaluation (results do not depend on it)
   /// Evaluate with the per-tet reference loop instead of the engine (the path
   /// the engine replaced: for verification and side-by-side timing).
@@ -273,9 +279,10 @@ struct ModelOptions {
   int threads = 1;
   bool reference_forces = false;  ///< see Model::reference_forces
   NewtonOptions newton;           ///< see Model::newton
-  /// With kNeoHookean: a group label per tet (e.g. its cube of the lattice,
-  /// GridMeshInfo::tet_cube_id); tets with one label share one volume ratio
-  /// (mean dilatation) and must share a region. Empty: per tet.
+  /// With kNeoHookean or kBulk: a group label per tet (e.g. its cube of the
+  /// lattice, GridMeshInfo::tet_cube_id); tets with one label share one
+  /// volume ratio (mean dilatation) and must share a region. Empty: per tet
+  /// (the continuum element; the bulk term needs groups).
   std::vector<long> volume_group;
 };
 
