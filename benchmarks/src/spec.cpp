@@ -395,6 +395,9 @@ Spec parse_spec(const std::string& text, const std::string& source) {
     throw msd::Error(f.section("msd").where("dt") + "dt = " + tbio::json_number(s.msd->dt) +
                      " s leaves fewer than ten steps over the loading, which lasts " + tbio::json_number(end) +
                      " s: use at most " + tbio::json_number(end / 10.0) + " s");
+  if (s.msd && s.msd->integrator == "quasi_static" && s.loading.type == Loading::Indentation)
+    throw msd::Error(f.section("msd").where("integrator") +
+                     "quasi_static does not hold contact with the indenter yet (docs/msd-model.md section 5): use bdf2, backward_euler or an explicit integrator");
   if (s.msd && s.msd->integrator == "quasi_static" && s.loading.type == Loading::Vibration)
     throw msd::Error(f.section("msd").where("integrator") +
                      "quasi_static solves equilibria without inertia, and a vibration is inertia: use bdf2, backward_euler or an explicit integrator");

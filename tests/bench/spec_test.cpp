@@ -2,6 +2,8 @@
 
 #include "msd/core/types.hpp"
 
+#include "test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -295,4 +297,10 @@ TEST(Spec, QuasiStaticIsAnIntegratorWithNewtonsFieldsAndIsRefusedForAVibration) 
   const std::string vib = error_of(replace(with, "loading: {type: uniaxial, path: [[0, 0], [1, 0.1]]}",
                                            "loading: {type: vibration, initial: preload, traction: {face: top, force: [0, 0, 0.3]}, release: 1.0, duration: 0.5}"));
   EXPECT_NE(vib.find("msd.integrator: quasi_static solves equilibria without inertia"), std::string::npos) << vib;
+  // The indenter's contact is not held by it yet: refused, naming the field.
+  std::string ind = testing_support::read_text(std::string(TISSUEBENCH_SOURCE_DIR) + "/benchmarks/specs/indentation.yaml");
+  ind = replace(ind, "integrator: symplectic_euler", "integrator: quasi_static");
+  ind = replace(ind, "dt: 1.0e-4", "dt: 0.05");
+  const std::string contact = error_of(ind);
+  EXPECT_NE(contact.find("msd.integrator: quasi_static does not hold contact with the indenter"), std::string::npos) << contact;
 }

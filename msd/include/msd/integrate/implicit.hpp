@@ -102,7 +102,8 @@ void step_bdf2(const Model& model, State& state, const Controls& controls, doubl
 /// some part of the model is held by nothing (a free body, a sliding sample
 /// with nothing against its sideways drift); the step then fails with Newton's
 /// "singular matrix". A model with joints is refused (msd::Error): a hinge's
-/// motion is dynamic.
+/// motion is dynamic; so is one with rigid obstacles (their contact is held
+/// through the step's velocities, which this step does not have).
 void step_quasi_static(const Model& model, State& state, const Controls& controls, double dt, Scratch& scratch);
 
 }  // namespace msd
