@@ -49,7 +49,8 @@ Y_LABEL = {
     "indentation_force": "indentation force (N)",
 }
 VARIANT_STYLE = {"thesis": ("tab:red", "--"), "physical": ("tab:blue", "-"), "calibrated": ("tab:green", "-"),
-                 "lattice": ("tab:orange", "-"), "continuum": ("tab:purple", "-.")}
+                 "lattice": ("tab:orange", "-"), "continuum": ("tab:purple", "-."),
+                 "physical_lattice": ("tab:brown", "-")}
 
 
 def closed_form(fem_path, loading):

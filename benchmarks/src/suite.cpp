@@ -143,7 +143,39 @@ Spec suite_variant(const Spec& spec, const std::string& variant, const std::stri
       n["msd"]["continuum_volume"] = "per_cube";
     });
   }
-  throw msd::Error("suite: unknown variant '" + variant + "' (thesis, physical, calibrated, lattice, continuum)");
+  if (variant == "physical_lattice") {
+    // The lattice with every constant from E and nu, nothing fitted
+    // (docs/msd-model.md section 4, the bulk term): isotropic springs whose
+    // shear modulus is the material's - face diagonals d = 3 mu / (s_lattice E)
+    // = 1.8 / (1 + nu), cube edges a = d / 2 - and the per-cube bulk term with
+    // K = lambda - mu, so the Cauchy-Born elasticity is the continuum's. The
+    // static loadings (uni-axial, shear, static) are solved quasi-statically,
+    // as the FEM solves them; vibration and indentation keep the spec's
+    // integrator (the quasi-static step holds no contact).
+    if (spec.msd->constants != "physical" || !spec.material.poisson_ratio || !(*spec.material.poisson_ratio > 0.25))
+      throw msd::Error(spec.path + ": the physical_lattice variant needs physical constants and material.poisson_ratio above 0.25");
+    const double d = 1.8 / (1.0 + *spec.material.poisson_ratio);
+    const bool statics = spec.loading.type == Loading::Uniaxial || spec.loading.type == Loading::SimpleShear ||
+                         spec.loading.type == Loading::Static;
+    return spec_variant(spec, [&](YAML::Node& n) {
+      for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "calibration", "edge_classes",
+                            "nonlinear_threshold", "continuum_volume"})
+        n["msd"].remove(k);
+      n["msd"]["terms"] = std::vector<std::string>{"springs", "dampers", "bulk"};
+      n["msd"]["edge_classes"]["axis"]["stiffness"] = d / 2.0;
+      n["msd"]["edge_classes"]["face_diagonal"]["stiffness"] = d;
+      if (statics) {
+        // One equilibrium per output sample; the rung's static matrix (springs
+        // and the bulk term, no dampers) is symmetric, so Newton on the
+        // symmetric part is exact Newton.
+        for (const char* k : {"rtol", "atol"}) n["msd"].remove(k);
+        n["msd"]["integrator"] = "quasi_static";
+        n["msd"]["dt"] = spec.output.interval;
+        n["msd"]["newton_linear_solver"] = "symmetric_ldlt";
+      }
+    });
+  }
+  throw msd::Error("suite: unknown variant '" + variant + "' (thesis, physical, calibrated, lattice, continuum, physical_lattice)");
 }
 
 SuiteTier load_tier(const std::string& path) {
@@ -156,9 +188,10 @@ SuiteTier load_tier(const std::string& path) {
   t.description = f.text_or("description", "");
   t.variants = f.has("variants") ? f.text_list("variants") : std::vector<std::string>{"physical"};
   for (const auto& v : t.variants)
-    if (v != "thesis" && v != "physical" && v != "calibrated" && v != "lattice" && v != "continuum")
+    if (v != "thesis" && v != "physical" && v != "calibrated" && v != "lattice" && v != "continuum" &&
+        v != "physical_lattice")
       throw msd::Error(f.where("variants") + "unknown variant '" + v +
-                       "' (thesis, physical, calibrated, lattice, continuum)");
+                       "' (thesis, physical, calibrated, lattice, continuum, physical_lattice)");
   auto items = [&](const std::string& key, const std::function<void(const Fields&)>& each) {
     const YAML::Node list = root[key];
     if (!list) return;

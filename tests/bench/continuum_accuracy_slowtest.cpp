@@ -8,42 +8,18 @@
 //   <= 0.03 over strain +-0.4 (the thesis cylinder's working range).
 // The targets the rung misses today (uni-axial and held-out bending) are not
 // asserted: benchmarks/results/2026-12-03-continuum-rung.md says by how much.
-#include "bench/compare.hpp"
-#include "bench/fem_runner.hpp"
-#include "bench/msd_runner.hpp"
-#include "bench/spec.hpp"
-#include "bench/suite.hpp"
-
-#include "test_support.hpp"
-
-#include <gtest/gtest.h>
+#include "accuracy_support.hpp"
 
 #include <cmath>
 #include <string>
 
 namespace {
 
-// The shipped spec `name`, with its text edited by `edit` (find, replace) first, as the continuum variant.
 bench::Spec continuum(const std::string& name, const std::string& find = "", const std::string& replace = "") {
-  bench::Spec spec = bench::load_spec(std::string(TISSUEBENCH_SPECS_DIR) + "/" + name);
-  if (!find.empty()) {
-    std::string text = spec.text;
-    const size_t at = text.find(find);
-    if (at == std::string::npos) throw msd::Error(name + ": the test's edit does not find '" + find + "'");
-    text.replace(at, find.size(), replace);
-    spec = bench::parse_spec(text, spec.path);
-  }
-  return bench::suite_variant(spec, "continuum", TISSUEBENCH_CALIBRATION_DIR);
+  return accuracy_support::variant_spec(name, "continuum", find, replace);
 }
 
-bench::Comparison run_both(const bench::Spec& spec, const testing_support::TempDir& dir) {
-  const std::string fem = dir.file(spec.name + "_fem.h5"), msd = dir.file(spec.name + "_msd.h5");
-  const bench::RunSummary f = bench::run_fem(spec, fem);
-  EXPECT_TRUE(f.complete) << f.failure;
-  const bench::RunSummary m = bench::run_msd(spec, msd);
-  EXPECT_TRUE(m.complete) << m.failure;
-  return bench::compare_results(msd, fem);
-}
+using accuracy_support::run_both;
 
 }  // namespace
 

@@ -26,7 +26,7 @@ TEST(Suite, ShippedTiersLoadAndNameTheirSpecs) {
   for (const char* tier : {"quick", "full"}) {
     const bench::SuiteTier t = bench::load_tier(std::string(TISSUEBENCH_SUITES_DIR) + "/" + tier + ".yaml");
     EXPECT_EQ(t.name, tier);
-    EXPECT_EQ(t.variants, (std::vector<std::string>{"thesis", "physical", "calibrated", "continuum"}));
+    EXPECT_EQ(t.variants, (std::vector<std::string>{"thesis", "physical", "calibrated", "continuum", "physical_lattice"}));
     EXPECT_GE(t.benchmarks.size(), 5u);
     EXPECT_FALSE(t.sweeps.empty());
     EXPECT_FALSE(t.stability.empty());
@@ -114,4 +114,22 @@ TEST(Suite, VariantsSetTheThesisConstantsOrTheMaterialsCalibration) {
   ASSERT_FALSE(without.material.poisson_ratio);
   EXPECT_THROW(bench::suite_variant(without, "continuum", cal), msd::Error);
   EXPECT_NO_THROW(bench::suite_variant(without, "physical", cal));
+  // The physical lattice: isotropic springs with the material's shear modulus
+  // and the bulk term, every constant from E and nu (passive muscle: 0.495),
+  // solved quasi-statically where the FEM is; it too needs nu.
+  const bench::Spec rung = bench::suite_variant(spec, "physical_lattice", cal);
+  EXPECT_EQ(rung.msd->terms, (std::vector<std::string>{"springs", "dampers", "bulk"}));
+  EXPECT_NEAR(rung.msd->edge_laws[1].stiffness, 1.8 / 1.495, 1e-12);
+  EXPECT_NEAR(rung.msd->edge_laws[0].stiffness, 0.9 / 1.495, 1e-12);
+  EXPECT_TRUE(rung.msd->edge_laws[0].linear() && rung.msd->edge_laws[1].linear());
+  EXPECT_DOUBLE_EQ(rung.msd->volume_factor, 0.0);
+  EXPECT_DOUBLE_EQ(rung.msd->bulk_factor, 1.0);
+  EXPECT_EQ(rung.msd->integrator, "quasi_static");
+  EXPECT_DOUBLE_EQ(rung.msd->dt, spec.output.interval);
+  EXPECT_EQ(rung.mesh->spacing, spec.mesh->spacing);
+  const bench::Spec ringing =
+      bench::suite_variant(bench::load_spec(std::string(TISSUEBENCH_SPECS_DIR) + "/vibration.yaml"), "physical_lattice", cal);
+  EXPECT_EQ(ringing.msd->integrator, "bdf2");  // a vibration keeps its integrator
+  EXPECT_EQ(ringing.msd->terms.back(), "bulk");
+  EXPECT_THROW(bench::suite_variant(without, "physical_lattice", cal), msd::Error);
 }
