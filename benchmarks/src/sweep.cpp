@@ -168,6 +168,7 @@ void set_term_set(YAML::Node& msd, const std::string& name) {
     msd["continuum_volume"] = "per_cube";
   else if (msd["continuum_volume"])
     msd.remove("continuum_volume");
+  if (msd["bulk_factor"]) msd.remove("bulk_factor");  // no term set has the bulk term
 }
 
 std::vector<SweepPoint> sweep_points(const Spec& spec, const SweepGrid& g) {

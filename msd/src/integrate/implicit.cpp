@@ -369,6 +369,7 @@ struct ImplicitWorkspace {
   bool factored = false;  // lu or ldlt holds a factorisation (of an earlier iterate's Jacobian)
   bool refresh = false;   // the last chord step contracted weakly: factorise afresh
   double factor_h = 0.0;  // the h it was made for (M - h D - h^2 K)
+  bool factor_statics = false;  // and whether for a quasi-static solve (-h^2 K)
   std::vector<HingeState> joints_end;  // the joints at the step's end
   double force_floor = 0.0;  // N: residual forces below it are round-off (round_off_force)
   // Held contacts (hold_contacts): nodes on a stick obstacle's surface at the
@@ -709,7 +710,8 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
     // Modified Newton: a factorisation kept from an earlier iterate or step
     // (same h) gives a chord step, kept when it at least halves |G|;
     // otherwise (or without one) the Jacobian is made afresh here.
-    if (model.newton.reuse_factorization && w.factored && w.factor_h == h && !w.refresh && same_held_nodes(w)) {
+    if (model.newton.reuse_factorization && w.factored && w.factor_h == h && w.factor_statics == w.statics && !w.refresh &&
+        same_held_nodes(w)) {
       solve(model, w);
       w.v_trial = w.v1;
       w.r_keep = w.r;
@@ -744,6 +746,7 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
     w.held_before.clear();
     for (const HeldContact& hc : w.held) w.held_before.push_back(hc.node);
     w.factor_h = h;
+    w.factor_statics = w.statics;
     w.refresh = false;
     if (!w.factored) {
       out.why = "met a singular matrix";
@@ -892,7 +895,7 @@ void step_implicit(const Model& model, State& state, const Controls& controls, d
   w.statics = statics;
   if (statics) w.still.setZero(3, model.num_nodes());
   if (controls.group_offset.size() < model.groups.size() || controls.group_velocity.size() < model.groups.size())
-    throw Error(std::string(bdf2 ? "BDF2" : "backward Euler") + ": controls for " + std::to_string(model.groups.size()) + " kinematic groups needed");
+    throw Error(std::string(statics ? "quasi-static" : bdf2 ? "BDF2" : "backward Euler") + ": controls for " + std::to_string(model.groups.size()) + " kinematic groups needed");
   scratch.last_newton_iterations = 0;
   scratch.last_step_cuts = 0;
   w.force_floor = round_off_force(model);
@@ -927,6 +930,9 @@ void step_quasi_static(const Model& model, State& state, const Controls& control
   if (!model.obstacles.empty())
     throw Error("quasi-static: the model has " + std::to_string(model.obstacles.size()) +
                 " rigid obstacles, whose contact the quasi-static step does not hold yet; use backward_euler or bdf2");
+  if (model.self_contact)
+    throw Error("quasi-static: the model has self-contact, which is resolved on positions and velocities after "
+                "each step; use backward_euler or bdf2");
   step_implicit(model, state, controls, dt, false, scratch, true);
 }
 

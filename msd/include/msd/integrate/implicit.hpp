@@ -96,14 +96,17 @@ void step_bdf2(const Model& model, State& state, const Controls& controls, doubl
 /// prescribed nodes at their positions then - the problem the FEM reference
 /// solves for static, uni-axial and shear loading (docs/fem-reference.md,
 /// quasi-static solution). No inertia and no dampers (the forces are taken at
-/// zero velocity); the same Newton solve, step cuts and contacts as backward
-/// Euler with the matrix -dt^2 K. The state's velocity is the step's mean
+/// zero velocity); the same Newton solve and step cuts as backward Euler with
+/// the matrix -dt^2 K, and the load halfway in a cut step. The state's velocity is the step's mean
 /// rate (x+ - x) / dt, the next step's predictor. Its matrix is singular when
 /// some part of the model is held by nothing (a free body, a sliding sample
 /// with nothing against its sideways drift); the step then fails with Newton's
 /// "singular matrix". A model with joints is refused (msd::Error): a hinge's
-/// motion is dynamic; so is one with rigid obstacles (their contact is held
-/// through the step's velocities, which this step does not have).
+/// motion is dynamic; so is one with rigid obstacles or self-contact (their
+/// contact is held through the step's velocities, which this step does not
+/// have). The dampers do not act in the solve, but forces evaluated on the
+/// state afterwards (a rig's sampled stress) see its velocity: leave
+/// `dampers` out of the terms for a static comparison.
 void step_quasi_static(const Model& model, State& state, const Controls& controls, double dt, Scratch& scratch);
 
 }  // namespace msd
