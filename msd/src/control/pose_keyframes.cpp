@@ -10,12 +10,6 @@ namespace msd {
 
 namespace {
 
-Mat3 skew(const Vec3& a) {
-  Mat3 s;
-  s << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
-  return s;
-}
-
 // One segment's cubic Hermite: value, first and second derivative in t at
 // s = (t - t0) / h (s may leave [0, 1] for the central difference).
 struct Hermite {
@@ -61,7 +55,7 @@ Mat3 rotation_from_vector(const Vec3& phi) {
 
 Mat3 so3_left_jacobian(const Vec3& phi) {
   const double a = phi.norm();
-  const Mat3 k = skew(phi);
+  const Mat3 k = cross_matrix(phi);
   if (a < 1e-6) return Mat3::Identity() + 0.5 * k + k * k / 6.0;  // the series, to O(a^3)
   return Mat3::Identity() + (1.0 - std::cos(a)) / (a * a) * k + (a - std::sin(a)) / (a * a * a) * k * k;
 }

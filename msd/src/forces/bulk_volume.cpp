@@ -2,20 +2,6 @@
 
 namespace msd {
 
-namespace {
-
-Mat3 skew(const Vec3& v) {
-  Mat3 s;
-  s << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return s;
-}
-
-}  // namespace
-
-double tet_signed_volume(const Vec3 x[4]) {
-  return (x[1] - x[0]).dot((x[2] - x[0]).cross(x[3] - x[0])) / 6.0;
-}
-
 void tet_volume_gradient(const Vec3 x[4], Vec3 g[4]) {
   const Vec3 a = x[1] - x[0], b = x[2] - x[0], c = x[3] - x[0];
   g[1] = b.cross(c) / 6.0;
@@ -29,9 +15,9 @@ Mat12 tet_volume_hessian(const Vec3 x[4]) {
   // H[p][q] = d2V / (d e_p d e_q) for the edge vectors e = (a, b, c).
   Mat3 H[3][3];
   H[0][0] = H[1][1] = H[2][2] = Mat3::Zero();
-  H[0][1] = -skew(c) / 6.0;
-  H[0][2] = skew(b) / 6.0;
-  H[1][2] = -skew(a) / 6.0;
+  H[0][1] = -cross_matrix(c) / 6.0;
+  H[0][2] = cross_matrix(b) / 6.0;
+  H[1][2] = -cross_matrix(a) / 6.0;
   H[1][0] = H[0][1].transpose();
   H[2][0] = H[0][2].transpose();
   H[2][1] = H[1][2].transpose();

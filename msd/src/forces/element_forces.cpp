@@ -7,6 +7,7 @@
 #include "msd/forces/force_engine.hpp"
 #include "msd/forces/stable_neo_hookean.hpp"
 #include "msd/forces/volume_preservation.hpp"
+#include "msd/mesh/tet_mesh.hpp"
 
 #include <vector>
 
@@ -69,7 +70,7 @@ double volume_group_pressure(const Model& model, int g, const Points& x) {
       const Element& el = model.elements[static_cast<size_t>(G.tets[static_cast<size_t>(q)])];
       Vec3 xe[4];
       for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[static_cast<size_t>(i)]);
-      volume += tet_signed_volume(xe);
+      volume += tet_signed_volume(xe[0], xe[1], xe[2], xe[3]);
     }
     return bulk_pressure(volume, G.rest_volume[static_cast<size_t>(g)], G.bulk_modulus[static_cast<size_t>(g)]);
   }

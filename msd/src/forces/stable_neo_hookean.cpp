@@ -9,13 +9,6 @@ namespace msd {
 
 namespace {
 
-// v^: the matrix with v^ w = v x w.
-Mat3 cross_matrix(const Vec3& v) {
-  Mat3 m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return m;
-}
-
 // dJ/dF = [f1 x f2, f2 x f0, f0 x f1].
 Mat3 det_gradient(const Mat3& F) {
   Mat3 g;

@@ -20,6 +20,13 @@ using Points = Eigen::Matrix3Xd;
 using Tet = std::array<int, 4>;
 using Tri = std::array<int, 3>;
 
+/// v^: the matrix with v^ w = v x w.
+inline Mat3 cross_matrix(const Vec3& v) {
+  Mat3 m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
 /// Every error the library reports at a boundary (file, spec, parameter) is an
 /// msd::Error whose message names the offending file, field or element.
 class Error : public std::runtime_error {

@@ -34,6 +34,7 @@
 // relaxation softens it, which the calibration measures). lattice_bulk_modulus
 // (tissue_material.hpp) computes that K from E and nu.
 //
+// The tet's signed volume is msd/mesh/tet_mesh.hpp's tet_signed_volume.
 // Arrays: x[4] a tet's corner positions (m); gradients and forces 4 x Vec3;
 // Hessians Mat12 in corner-major order (rows 3 i + c).
 #pragma once
@@ -43,9 +44,6 @@
 namespace msd {
 
 using Mat12 = Eigen::Matrix<double, 12, 12>;
-
-/// Signed volume (x1 - x0) . ((x2 - x0) x (x3 - x0)) / 6, m^3.
-double tet_signed_volume(const Vec3 x[4]);
 
 /// dV/dx_i for i = 0..3 (m^2): g[1] = (x2 - x0) x (x3 - x0) / 6 and cyclic,
 /// g[0] = -(g[1] + g[2] + g[3]).
