@@ -82,6 +82,7 @@ msd::TissueMaterial make_material(const Spec& spec) {
     m.repulsion_factor = ms.repulsion_factor;
     m.volume_factor = ms.volume_factor;
     m.bulk_factor = ms.bulk_factor;
+    m.zero_length_springs = ms.zero_length_springs;
     m.poisson_ratio = spec.material.poisson_ratio;
   }
   m.edge_laws = ms.edge_laws;
@@ -292,8 +293,11 @@ std::vector<std::pair<std::string, double>> material_record(const Spec& spec,
     r.insert(r.end(), {{"k_s_min", ks_min}, {"k_s_max", ks_max}});
   }
   if (spec.material.poisson_ratio) r.emplace_back("poisson_ratio", *spec.material.poisson_ratio);
-  if (model.terms & msd::kBulk && !model.volume_groups.bulk_modulus.empty())
-    r.insert(r.end(), {{"lattice_bulk_factor", m.bulk_factor}, {"lattice_bulk_modulus", model.volume_groups.bulk_modulus.front()}});
+  if (model.terms & msd::kBulk && !model.volume_groups.bulk_law.empty()) {
+    r.insert(r.end(), {{"lattice_bulk_factor", m.bulk_factor}, {"lattice_bulk_modulus", model.volume_groups.bulk_law.front().modulus}});
+    if (m.zero_length_springs)
+      r.insert(r.end(), {{"lattice_zero_length_springs", 1.0}, {"lattice_rest_modulus", model.volume_groups.bulk_law.front().rest_modulus}});
+  }
   if (!m.thesis_springs())
     for (int c = 0; c < msd::kEdgeClasses; ++c) {
       const msd::SpringLaw& law = m.edge_laws[static_cast<size_t>(c)];

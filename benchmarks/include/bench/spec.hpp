@@ -50,8 +50,12 @@ struct MsdSpec {
   double k_s = 0.0, k_d = 0.0, k_r = 0.0, k_v = 0.0;
   // physical
   double stiffness_scale = 1.0, repulsion_factor = 0.0, volume_factor = 0.0;
-  /// The bulk term's factor on K = lambda - mu (msd::lattice_bulk_modulus).
+  /// The bulk term's factor on its modulus (msd::lattice_bulk_law: K = lambda
+  /// - mu, or lambda with zero-length springs).
   double bulk_factor = 1.0;
+  /// Zero-length springs with cotangent weights and the bulk term's
+  /// neo-Hookean law (msd/forces/zero_length_springs.hpp).
+  bool zero_length_springs = false;
   /// s; the MSD dampers' time constant (k_d = damping_time k_s) in place of the
   /// material's damping_time, which stays the FEM's Rayleigh constant. The
   /// dampers sit on the springs only, so the lattice needs a longer one to damp

@@ -25,7 +25,10 @@ double lattice_wave_speed(const Model& model) {
   for (int e = 0; e < p.num_edges(); ++e) {
     const double m = std::min(model.mass[p.edge_a[static_cast<size_t>(e)]], model.mass[p.edge_b[static_cast<size_t>(e)]]);
     const double k = p.edge_k_s[static_cast<size_t>(e)];
-    if (m > 0.0 && k > 0.0) c = std::max(c, p.edge_rest[static_cast<size_t>(e)] * std::sqrt(k / m));
+    // The edge's length at rest (not the spring's rest length, 0 for zero-length springs).
+    const double length = (model.rest_positions.col(p.edge_b[static_cast<size_t>(e)]) -
+                           model.rest_positions.col(p.edge_a[static_cast<size_t>(e)])).norm();
+    if (m > 0.0 && k > 0.0) c = std::max(c, length * std::sqrt(k / m));
   }
   return c;
 }

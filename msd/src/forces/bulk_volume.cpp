@@ -1,5 +1,8 @@
 #include "msd/forces/bulk_volume.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace msd {
 
 void tet_volume_gradient(const Vec3 x[4], Vec3 g[4]) {
@@ -36,6 +39,36 @@ Mat12 tet_volume_hessian(const Vec3 x[4]) {
       out.block<3, 3>(3 * i, 3 * j) = block;
     }
   return out;
+}
+
+namespace {
+
+// The neo-Hookean law's W, W', W'' for J above the floor.
+double neo_w(const BulkLaw& b, double J) {
+  const double ln = std::log(J);
+  return -b.rest_modulus * ln + 0.25 * b.modulus * (J * J - 1.0 - 2.0 * ln);
+}
+double neo_p(const BulkLaw& b, double J) { return -b.rest_modulus / J + 0.5 * b.modulus * (J - 1.0 / J); }
+double neo_k(const BulkLaw& b, double J) { return b.rest_modulus / (J * J) + 0.5 * b.modulus * (1.0 + 1.0 / (J * J)); }
+
+}  // namespace
+
+double bulk_law_energy(const BulkLaw& b, double J) {
+  if (!b.neo_hookean) return 0.5 * b.modulus * (J - 1.0) * (J - 1.0);
+  if (J >= kBulkFloor) return neo_w(b, J);
+  const double d = J - kBulkFloor;
+  return neo_w(b, kBulkFloor) + neo_p(b, kBulkFloor) * d + 0.5 * neo_k(b, kBulkFloor) * d * d;
+}
+
+double bulk_law_pressure(const BulkLaw& b, double J) {
+  if (!b.neo_hookean) return b.modulus * (J - 1.0);
+  if (J >= kBulkFloor) return neo_p(b, J);
+  return neo_p(b, kBulkFloor) + neo_k(b, kBulkFloor) * (J - kBulkFloor);
+}
+
+double bulk_law_stiffness(const BulkLaw& b, double J) {
+  if (!b.neo_hookean) return b.modulus;
+  return neo_k(b, std::max(J, kBulkFloor));
 }
 
 void add_bulk_forces(const Vec3 x[4], double pressure, Vec3 f[4]) {

@@ -62,18 +62,29 @@ bool add_nonlinear_element_forces(const Model& model, const Element& el, const V
   return true;
 }
 
+namespace {
+
+// The bulk term's volume ratio of group g: the sum of its tets' signed
+// volumes over its rest volume.
+double bulk_group_ratio(const Model& model, int g, const Points& x) {
+  const VolumeGroups& G = model.volume_groups;
+  double volume = 0.0;
+  for (int q = G.tet_offset[static_cast<size_t>(g)]; q < G.tet_offset[static_cast<size_t>(g) + 1]; ++q) {
+    const Element& el = model.elements[static_cast<size_t>(G.tets[static_cast<size_t>(q)])];
+    Vec3 xe[4];
+    for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[static_cast<size_t>(i)]);
+    volume += tet_signed_volume(xe[0], xe[1], xe[2], xe[3]);
+  }
+  return volume / G.rest_volume[static_cast<size_t>(g)];
+}
+
+}  // namespace
+
 double volume_group_pressure(const Model& model, int g, const Points& x) {
   const VolumeGroups& G = model.volume_groups;
   double volume = 0.0;
-  if (model.terms & kBulk) {
-    for (int q = G.tet_offset[static_cast<size_t>(g)]; q < G.tet_offset[static_cast<size_t>(g) + 1]; ++q) {
-      const Element& el = model.elements[static_cast<size_t>(G.tets[static_cast<size_t>(q)])];
-      Vec3 xe[4];
-      for (int i = 0; i < 4; ++i) xe[i] = x.col(el.nodes[static_cast<size_t>(i)]);
-      volume += tet_signed_volume(xe[0], xe[1], xe[2], xe[3]);
-    }
-    return bulk_pressure(volume, G.rest_volume[static_cast<size_t>(g)], G.bulk_modulus[static_cast<size_t>(g)]);
-  }
+  if (model.terms & kBulk)
+    return bulk_law_pressure(G.bulk_law[static_cast<size_t>(g)], bulk_group_ratio(model, g, x));
   for (int q = G.tet_offset[static_cast<size_t>(g)]; q < G.tet_offset[static_cast<size_t>(g) + 1]; ++q) {
     const size_t t = static_cast<size_t>(G.tets[static_cast<size_t>(q)]);
     const Element& el = model.elements[t];
@@ -165,13 +176,11 @@ double conservative_energy(const Model& model, const Points& x) {
       const double p = volume_group_pressure(model, g, x);
       u += G.rest_volume[static_cast<size_t>(g)] * p * p / (2.0 * lambda);
     }
-  // The bulk term's, V0_g K/2 (Jbar_g - 1)^2 = V0_g p_g^2 / (2 K) (bulk_volume.hpp).
+  // The bulk term's, V0_g W(Jbar_g) (bulk_volume.hpp).
   if (model.terms & kBulk)
-    for (int g = 0; g < model.volume_groups.size(); ++g) {
-      const double p = volume_group_pressure(model, g, x);
-      u += model.volume_groups.rest_volume[static_cast<size_t>(g)] * p * p /
-           (2.0 * model.volume_groups.bulk_modulus[static_cast<size_t>(g)]);
-    }
+    for (int g = 0; g < model.volume_groups.size(); ++g)
+      u += model.volume_groups.rest_volume[static_cast<size_t>(g)] *
+           bulk_law_energy(model.volume_groups.bulk_law[static_cast<size_t>(g)], bulk_group_ratio(model, g, x));
   return u;
 }
 

@@ -225,7 +225,7 @@ void assemble_parts(const Model& model, const SystemLayout& L, const Points& x, 
 
 // The volume groups' coupling, -(lambda / V0_g) g g^T with g = sum over the
 // group's tets of dV_t/dx (stable_neo_hookean.hpp), times c_k.
-// With the bulk term (bulk_volume.hpp) the modulus is its K.
+// With the bulk term (bulk_volume.hpp) the modulus is its law's W''(Jbar_g).
 void assemble_volume_groups(const Model& model, const SystemLayout& L, const Points& x, double c_k, double* values) {
   const VolumeGroups& G = model.volume_groups;
   const bool bulk = model.terms & kBulk;
@@ -234,7 +234,7 @@ void assemble_volume_groups(const Model& model, const SystemLayout& L, const Poi
     const size_t gi = static_cast<size_t>(g);
     const int m = G.node_offset[gi + 1] - G.node_offset[gi];
     grad.setZero(3, m);
-    double modulus = bulk ? G.bulk_modulus[gi] : 0.0;
+    double modulus = 0.0, volume = 0.0;
     for (int q = G.tet_offset[gi]; q < G.tet_offset[gi + 1]; ++q) {
       const size_t t = static_cast<size_t>(G.tets[static_cast<size_t>(q)]);
       const Element& el = model.elements[t];
@@ -244,12 +244,14 @@ void assemble_volume_groups(const Model& model, const SystemLayout& L, const Poi
         Vec3 dv[4];
         tet_volume_gradient(xe, dv);
         for (int i = 0; i < 4; ++i) grad.col(G.corner_slot[4 * t + static_cast<size_t>(i)]) += dv[i];
+        volume += tet_signed_volume(xe[0], xe[1], xe[2], xe[3]);
       } else {
         const Eigen::Matrix<double, 3, 4> dv = volume_gradient(xe, model.continuum.dm_inv[t], el.rest_volume);
         for (int i = 0; i < 4; ++i) grad.col(G.corner_slot[4 * t + static_cast<size_t>(i)]) += dv.col(i);
         modulus = model.continuum.constants[t].lambda;
       }
     }
+    if (bulk) modulus = bulk_law_stiffness(G.bulk_law[gi], volume / G.rest_volume[gi]);
     const double c = -c_k * modulus / G.rest_volume[gi];
     const int* ids = L.group_block.data() + L.group_block_offset[gi];
     for (int i = 0; i < m; ++i)
@@ -610,19 +612,22 @@ void fix_prescribed(const std::vector<char>& fixed, Eigen::SparseMatrix<double>&
 double round_off_force(const Model& model) {
   double f = 0.0;
   const ForcePlan& p = model.plan;
-  for (int e = 0; e < p.num_edges(); ++e)
-    f = std::max(f, p.edge_k_s[static_cast<size_t>(e)] * p.edge_rest[static_cast<size_t>(e)]);
+  for (int e = 0; e < p.num_edges(); ++e)  // k_s times the edge's length at rest (zero-length springs: not their rest length)
+    f = std::max(f, p.edge_k_s[static_cast<size_t>(e)] *
+                        (model.rest_positions.col(p.edge_b[static_cast<size_t>(e)]) -
+                         model.rest_positions.col(p.edge_a[static_cast<size_t>(e)])).norm());
   // The continuum element's: its moduli times a face area, (mu + lambda) V0^(2/3).
   if (model.terms & kNeoHookean)
     for (size_t t = 0; t < model.elements.size(); ++t) {
       const SnhConstants& c = model.continuum.constants[t];
       f = std::max(f, (c.mu + c.lambda) * std::cbrt(model.elements[t].rest_volume * model.elements[t].rest_volume));
     }
-  // The bulk term's: K times a group's face area.
+  // The bulk term's: its moduli times a group's face area.
   if (model.terms & kBulk)
     for (int g = 0; g < model.volume_groups.size(); ++g) {
       const double v0 = model.volume_groups.rest_volume[static_cast<size_t>(g)];
-      f = std::max(f, model.volume_groups.bulk_modulus[static_cast<size_t>(g)] * std::cbrt(v0 * v0));
+      const BulkLaw& law = model.volume_groups.bulk_law[static_cast<size_t>(g)];
+      f = std::max(f, (law.modulus + law.rest_modulus) * std::cbrt(v0 * v0));
     }
   return 1e3 * std::numeric_limits<double>::epsilon() * f;
 }

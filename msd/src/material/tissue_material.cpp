@@ -39,19 +39,37 @@ void check_material(const TissueMaterial& m, const std::string& where) {
     if (m.poisson_ratio)
       require(*m.poisson_ratio > -1.0 && *m.poisson_ratio < 0.5, where, "poisson_ratio", "in (-1, 0.5)", *m.poisson_ratio);
   }
+  if (m.zero_length_springs && !m.thesis_springs())
+    throw Error(where + ": zero_length_springs: the springs' weights are the cotangent weights; edge classes "
+                "(a factor or a law per class) do not apply to them");
   for (int c = 0; c < kEdgeClasses; ++c)
     check_spring_law(m.edge_laws[static_cast<size_t>(c)],
                      where + ": edge_classes." + to_string(static_cast<EdgeClass>(c)));
 }
 
-double lattice_bulk_modulus(const TissueMaterial& m, const std::string& where) {
+BulkLaw lattice_bulk_law(const TissueMaterial& m, const std::string& where) {
   if (m.mode != ConstantsMode::Physical || !m.poisson_ratio)
     throw Error(where + ": the bulk term needs physical constants with a Poisson's ratio (youngs_modulus, poisson_ratio)");
   const double nu = *m.poisson_ratio;
-  require(nu > 0.25, where, "poisson_ratio", "above 0.25 for the bulk term (springs alone have nu = 1/4)", nu);
   const double e = m.youngs_modulus;
   const double lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), mu = e / (2.0 * (1.0 + nu));
-  return m.bulk_factor * m.stiffness_scale * (lambda - mu);
+  BulkLaw law;
+  if (m.zero_length_springs) {
+    require(nu > 0.0, where, "poisson_ratio", "above 0 for the bulk term with zero-length springs (lambda > 0)", nu);
+    law.neo_hookean = true;
+    law.modulus = m.bulk_factor * m.stiffness_scale * lambda;
+    law.rest_modulus = m.stiffness_scale * mu;
+  } else {
+    require(nu > 0.25, where, "poisson_ratio", "above 0.25 for the bulk term (springs alone have nu = 1/4)", nu);
+    law.modulus = m.bulk_factor * m.stiffness_scale * (lambda - mu);
+  }
+  return law;
+}
+
+double scaled_shear_modulus(const TissueMaterial& m, const std::string& where, const std::string& what) {
+  if (m.mode != ConstantsMode::Physical || !m.poisson_ratio)
+    throw Error(where + ": " + what + " need physical constants with a Poisson's ratio (youngs_modulus, poisson_ratio)");
+  return m.stiffness_scale * m.youngs_modulus / (2.0 * (1.0 + *m.poisson_ratio));
 }
 
 bool TissueMaterial::thesis_springs() const {

@@ -1,6 +1,7 @@
 #include "msd/model/model.hpp"
 
 #include "msd/forces/force_engine.hpp"
+#include "msd/forces/zero_length_springs.hpp"
 #include "msd/forces/tet_frame.hpp"
 
 #include <algorithm>
@@ -81,11 +82,39 @@ VolumeGroups make_volume_groups(const Model& model, const std::vector<long>& lab
     g.node_offset.push_back(static_cast<int>(g.nodes.size()));
     if (model.terms & kBulk) {
       const int r = model.elements[static_cast<size_t>(first)].region;
-      g.bulk_modulus.push_back(
-          lattice_bulk_modulus(model.region_materials[static_cast<size_t>(r)], "material of region " + std::to_string(r)));
+      g.bulk_law.push_back(
+          lattice_bulk_law(model.region_materials[static_cast<size_t>(r)], "material of region " + std::to_string(r)));
     }
   }
   return g;
+}
+
+// Zero-length springs (msd/forces/zero_length_springs.hpp): the same for
+// every region, with the springs and the bulk term, not beside the continuum.
+void check_zero_length_springs(const ModelOptions& options) {
+  for (size_t r = 0; r < options.region_materials.size(); ++r) {
+    const std::string where = "material of region " + std::to_string(r) + ": zero_length_springs";
+    if (options.region_materials[r].zero_length_springs != options.region_materials[0].zero_length_springs)
+      throw Error(where + " differs from region 0's: give every region the same springs");
+    if (!options.region_materials[r].zero_length_springs) continue;
+    if (!(options.terms & kSprings) || !(options.terms & kBulk))
+      throw Error(where + " need the springs and the bulk term (its rest pressure holds the springs' pull)");
+    if (options.terms & kNeoHookean)
+      throw Error(where + " are the lattice's springs; the neo_hookean term is another element: choose one");
+  }
+}
+
+// A tet's zero-length springs: k = mu w (the cotangent weights of its rest
+// corners x), dampers k_d = damping_time k, rest length 0.
+void set_zero_length_springs(const TissueMaterial& mat, int region, const Vec3 x[4], Element& el) {
+  const double mu = scaled_shear_modulus(mat, "material of region " + std::to_string(region), "zero_length_springs");
+  double w[6];
+  cotangent_weights(x, w);
+  for (int k = 0; k < 6; ++k) {
+    el.k.k_s[k] = mu * w[k];
+    el.k.k_d[k] = mat.damping_time * el.k.k_s[k];
+    el.rest_length[k] = 0.0;
+  }
 }
 
 }  // namespace
@@ -143,6 +172,7 @@ Model build_model(const TetMesh& mesh, const ModelOptions& options) {
     }
     el.floor = mat.repulsion_floor;
     el.k = element_constants(mat, el.rest_volume, el.rest_length, el.rest_height, el.edge_class);
+    if (mat.zero_length_springs) set_zero_length_springs(mat, r, x, el);
     if (options.terms & kNeoHookean) {
       if (mat.mode != ConstantsMode::Physical || !mat.poisson_ratio)
         throw Error("material of region " + std::to_string(r) +
@@ -172,6 +202,7 @@ Model build_model(const TetMesh& mesh, const ModelOptions& options) {
   model.inv_mass = model.mass.cwiseInverse();
   if ((options.terms & kBulk) && (options.terms & kNeoHookean))
     throw Error("the bulk term and the neo_hookean term are two volume terms for one model: choose one");
+  check_zero_length_springs(options);
   if ((options.terms & kBulk) && options.volume_group.empty())
     throw Error("the bulk term needs volume groups (ModelOptions::volume_group: the lattice's cubes)");
   if (!options.volume_group.empty()) model.volume_groups = make_volume_groups(model, options.volume_group);

@@ -286,7 +286,7 @@ TEST(Implicit, AssembledJacobiansOfTheLatticesBulkTermMatchFiniteDifferences) {
   o.spacing = 0.01;
   mo.volume_group = msd::mesh_closed_surface(msd::make_box(Vec3::Zero(), Vec3(0.03, 0.02, 0.04)), o, "block").info.tet_cube_id;
   const msd::Model m = msd::build_model(mesh, mo);
-  ASSERT_EQ(m.volume_groups.bulk_modulus.size(), static_cast<size_t>(m.volume_groups.size()));
+  ASSERT_EQ(m.volume_groups.bulk_law.size(), static_cast<size_t>(m.volume_groups.size()));
   msd::Points x, v;
   deform(m, 0.45, 0.001, x, v);
   const msd::SystemLayout L = msd::make_system_layout(m);

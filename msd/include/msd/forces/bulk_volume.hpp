@@ -31,7 +31,7 @@
 // the isotropic class factors (spring_law.hpp: a = d/2) have lambda_s = mu_s =
 // mu, so K = lambda - mu gives the lattice the continuum's small-strain
 // elasticity (the Cauchy-Born estimate; the five-tet split's non-affine
-// relaxation softens it, which the calibration measures). lattice_bulk_modulus
+// relaxation softens it, which the calibration measures). lattice_bulk_law
 // (tissue_material.hpp) computes that K from E and nu.
 //
 // The tet's signed volume is msd/mesh/tet_mesh.hpp's tet_signed_volume.
@@ -65,6 +65,34 @@ inline double bulk_energy(double volume, double rest_volume, double bulk_modulus
   const double e = volume / rest_volume - 1.0;
   return 0.5 * bulk_modulus * rest_volume * e * e;
 }
+
+/// The bulk term's volume law of one group, U_g = V0_g W(Jbar_g):
+///  - quadratic, with springs of a rest length: W(J) = K (J - 1)^2 / 2, the
+///    law above (modulus = K = lambda - mu);
+///  - neo-Hookean, with zero-length springs (zero_length_springs.hpp):
+///        W(J) = -mu ln J + lambda/4 (J^2 - 1 - 2 ln J)
+///    (modulus = lambda, rest_modulus = mu): -mu ln J holds the springs' rest
+///    pull (W'(1) = -mu), the rest is the volumetric energy of the FEM
+///    reference's law (reference_fem/src/neo_hookean.h, its kappa/4 form),
+///    with lambda so that the lattice's bulk modulus, lambda + 2 mu / 3, is
+///    the continuum's. Below J = kBulkFloor W is continued by its
+///    second-order Taylor polynomial at the floor, so energy and pressure stay
+///    finite (and push outwards, W' < 0) for a crushed or inverted cube.
+/// p = W'(J) is the group's pressure, d2W/dJ2 its stiffness (Newton's matrix
+/// takes -(W''(J) / V0) G G^T - p sum_t d2V_t/dx2).
+struct BulkLaw {
+  double modulus = 0.0;       ///< K (quadratic) or lambda (neo-Hookean), Pa
+  double rest_modulus = 0.0;  ///< mu (neo-Hookean), Pa
+  bool neo_hookean = false;
+};
+
+/// Where the neo-Hookean law's Taylor continuation starts.
+inline constexpr double kBulkFloor = 0.1;
+
+/// W(J) (J/m^3), p = W'(J) (Pa) and W''(J) (Pa) of the law.
+double bulk_law_energy(const BulkLaw& law, double J);
+double bulk_law_pressure(const BulkLaw& law, double J);
+double bulk_law_stiffness(const BulkLaw& law, double J);
 
 /// f_i += -p dV/dx_i: one tet's share of its group's pressure p.
 void add_bulk_forces(const Vec3 x[4], double pressure, Vec3 f[4]);

@@ -28,6 +28,7 @@
 #pragma once
 
 #include "msd/core/types.hpp"
+#include "msd/forces/bulk_volume.hpp"
 #include "msd/forces/spring_law.hpp"
 
 #include <array>
@@ -69,9 +70,15 @@ struct TissueMaterial {
   /// the edge's k_s and k_d and its spring law (msd/forces/spring_law.hpp).
   /// The default, factor 1 and the linear law on every class, is the thesis'.
   std::array<SpringLaw, kEdgeClasses> edge_laws{};
-  /// A factor on the lattice's bulk term's modulus (lattice_bulk_modulus;
+  /// A factor on the lattice's bulk term's modulus (lattice_bulk_law;
   /// read only with the bulk term, msd/forces/bulk_volume.hpp).
   double bulk_factor = 1.0;
+  /// The springs have rest length 0 and the cotangent weights of
+  /// msd/forces/zero_length_springs.hpp (k = stiffness_scale mu w, dampers
+  /// k_d = damping_time k), and the bulk term has the neo-Hookean law: the
+  /// lattice whose energy is the compressible neo-Hookean one. Physical
+  /// constants with a Poisson's ratio, the bulk term, no edge classes.
+  bool zero_length_springs = false;
   /// Whether every class is the thesis' linear spring of factor 1.
   bool thesis_springs() const;
 };
@@ -79,14 +86,24 @@ struct TissueMaterial {
 /// Cauchy-Born factor of the five-tetrahedron cubic lattice (see above).
 inline constexpr double kLatticeStiffnessFactor = 5.0 / 6.0;
 
-/// The bulk modulus of the lattice's per-cube bulk term
-/// (msd/forces/bulk_volume.hpp): K = bulk_factor * stiffness_scale *
-/// (lambda - mu), lambda and mu of E and nu - what isotropic springs
-/// (lambda_s = mu_s = mu) lack of the continuum's small-strain elasticity.
+/// The volume law of the lattice's per-cube bulk term
+/// (msd/forces/bulk_volume.hpp), lambda and mu of E and nu:
+///  - springs with a rest length: quadratic, K = bulk_factor *
+///    stiffness_scale * (lambda - mu) - what isotropic springs
+///    (lambda_s = mu_s = mu) lack of the continuum's small-strain
+///    elasticity; needs nu above 1/4 (at or below it lambda <= mu: springs
+///    alone are already as compressible or less);
+///  - zero-length springs: neo-Hookean, modulus bulk_factor *
+///    stiffness_scale * lambda, rest_modulus stiffness_scale * mu (the
+///    springs' own mu); needs nu > 0.
 /// Throws msd::Error naming `where` unless the constants are physical with a
-/// Poisson's ratio above 1/4 (at or below it lambda <= mu: springs alone are
-/// already as compressible or less).
-double lattice_bulk_modulus(const TissueMaterial& m, const std::string& where);
+/// Poisson's ratio in that range.
+BulkLaw lattice_bulk_law(const TissueMaterial& m, const std::string& where);
+
+/// The shear modulus mu = E / (2 (1 + nu)) times stiffness_scale (Pa) of
+/// physical constants with a Poisson's ratio; throws msd::Error naming
+/// `where` and `what` (the term that needs it) otherwise.
+double scaled_shear_modulus(const TissueMaterial& m, const std::string& where, const std::string& what);
 
 /// Throws msd::Error naming `where` and the field if a constant is unphysical
 /// (density <= 0, negative constants, E <= 0 in physical mode, floor not in

@@ -7,6 +7,7 @@
 #include "msd/contact/rigid_obstacle.hpp"
 #include "msd/contact/self_contact.hpp"
 #include "msd/core/types.hpp"
+#include "msd/forces/bulk_volume.hpp"
 #include "msd/forces/muscle_units.hpp"
 #include "msd/forces/skin_membrane.hpp"
 #include "msd/forces/stable_neo_hookean.hpp"
@@ -136,7 +137,7 @@ struct VolumeGroups {
   std::vector<int> of_tet;              ///< T: the group of each tet
   std::vector<int> corner_slot;         ///< 4 T
   std::vector<double> rest_volume;      ///< G, m^3
-  std::vector<double> bulk_modulus;     ///< G, Pa: the bulk term's K (kBulk), else empty
+  std::vector<BulkLaw> bulk_law;        ///< G: the bulk term's volume law (kBulk), else empty
   int size() const { return static_cast<int>(rest_volume.size()); }
   bool empty() const { return rest_volume.empty(); }
 };
