@@ -50,7 +50,7 @@ Y_LABEL = {
 }
 VARIANT_STYLE = {"thesis": ("tab:red", "--"), "physical": ("tab:blue", "-"), "calibrated": ("tab:green", "-"),
                  "lattice": ("tab:orange", "-"), "continuum": ("tab:purple", "-."),
-                 "physical_lattice": ("tab:brown", "-")}
+                 "physical_lattice": ("tab:brown", "-"), "neo_lattice": ("tab:olive", "-")}
 
 
 def closed_form(fem_path, loading):

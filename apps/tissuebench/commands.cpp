@@ -245,6 +245,7 @@ int cmd_sweep(const SweepArgs& args) {
     }
   }
   g.cvode = !args.no_cvode;
+  g.quasi_static = args.quasi_static;
   for (const auto& l : args.fem_levels) {
     unsigned degree = 0, refinement = 0;
     char colon = 0;

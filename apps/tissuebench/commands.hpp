@@ -62,7 +62,7 @@ struct SweepArgs {
   std::vector<double> spacing, dt;
   std::vector<std::string> integrators, terms, thresholds, fem_levels;
   double point_timeout = 0.0;
-  bool no_cvode = false, quiet = false;
+  bool no_cvode = false, quiet = false, quasi_static = false;
 };
 int cmd_sweep(const SweepArgs& args);
 

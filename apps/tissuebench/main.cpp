@@ -163,13 +163,16 @@ int dispatch(int argc, char** argv) {
                         "Fixed-step integrators (default: symplectic_euler,velocity_verlet,explicit_euler)")
       ->delimiter(',');
   sweep_cmd->add_option("--terms", sweep.terms,
-                        "Term sets: all, no_repulsion, no_volume, springs_dampers, continuum (default: the first four)")
+                        "Term sets: all, no_repulsion, no_volume, springs_dampers, continuum, neo_lattice (default: the first four)")
       ->delimiter(',');
   sweep_cmd->add_option("--thresholds", sweep.thresholds, "Non-linear thresholds: off or a value in (0,1] "
                                                           "(default: off,0.7)")
       ->delimiter(',');
   sweep_cmd->add_flag("--no-cvode", sweep.no_cvode,
                       "Leave out the CVODE point of each spatial configuration (no time errors)");
+  sweep_cmd->add_flag("--quasi-static", sweep.quasi_static,
+                      "Add a quasi-static point (dt = the output interval, no dampers) per spatial configuration and "
+                      "term set, for a static loading");
   sweep_cmd->add_option("--reference", sweep.reference,
                         "An existing FEM results file of the same spec (default: computed into --out, reused "
                         "when the spec is unchanged)")

@@ -7,7 +7,13 @@
 // arguments = cubes along x, threads). BM_FastSpringLaws / BM_FastFullModelSpringLaws:
 // the same with the edge classes' non-linear spring laws (cube edges 0.3 k_s,
 // compression exponent 3 on both classes: the calibrated lattice's form), beside
-// the linear springs in the same run.
+// the linear springs in the same run. BM_FastLadder: the model ladder's force
+// evaluation on the same block, one thread, nu = 0.495 (argument = rung):
+// 0 the thesis element (springs, dampers, repulsion, volume), 1 the physical
+// lattice (isotropic springs, dampers, the per-cube bulk term), 2 the
+// neo-Hookean lattice (zero-length springs, dampers, the bulk term's
+// neo-Hookean law), 3 the continuum rung (stable neo-Hookean tets, dampers,
+// one volume ratio per cube).
 #include "msd/forces/element_forces.hpp"
 #include "msd/forces/force_engine.hpp"
 #include "msd/mesh/cubic_grid.hpp"
@@ -63,6 +69,58 @@ Fixture make_fixture(unsigned terms, double threshold, double squeeze, int threa
   return fx;
 }
 
+// The ladder's rung `rung` (BM_FastLadder above) on the 10 x 10 x 20 cm block.
+Fixture make_rung(int rung) {
+  msd::SampleMeshOptions o;
+  o.spacing = 0.01;
+  const auto sample = msd::mesh_closed_surface(msd::make_box(msd::Vec3::Zero(), msd::Vec3(0.1, 0.1, 0.2)), o, "benchmark block");
+  msd::ModelOptions mo;
+  msd::TissueMaterial mat;
+  mat.mode = msd::ConstantsMode::Physical;
+  mat.density = 1000;
+  mat.youngs_modulus = 3000;
+  mat.poisson_ratio = 0.495;
+  mat.damping_time = 0.01;
+  mat.repulsion_factor = 0.2;
+  mat.volume_factor = 1.0;
+  const unsigned full = msd::kSprings | msd::kDampers | msd::kRepulsion | msd::kVolume;
+  mo.terms = rung == 0 ? full : rung == 3 ? (msd::kNeoHookean | msd::kDampers) : (msd::kSprings | msd::kDampers | msd::kBulk);
+  if (rung == 1) {
+    mat.edge_laws[0].stiffness = 0.9 / 1.495;
+    mat.edge_laws[1].stiffness = 1.8 / 1.495;
+  }
+  mat.zero_length_springs = rung == 2;
+  mo.region_materials = {mat};
+  if (rung > 0) mo.volume_group = sample.info.tet_cube_id;
+  Fixture fx{msd::build_model(sample.mesh, mo), {}, {}, {}};
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  fx.x = fx.model.rest_positions;
+  fx.x.row(2) *= 0.95;
+  fx.v = msd::Points::Zero(3, fx.x.cols());
+  for (Eigen::Index i = 0; i < fx.x.cols(); ++i)
+    for (int a = 0; a < 3; ++a) {
+      fx.x(a, i) += 0.001 * u(rng);
+      fx.v(a, i) = 0.01 * u(rng);
+    }
+  return fx;
+}
+
+void BM_FastLadder(benchmark::State& state) {
+  static const char* names[] = {"thesis element", "physical lattice", "neo-Hookean lattice", "continuum per cube"};
+  Fixture fx = make_rung(static_cast<int>(state.range(0)));
+  msd::Scratch buffers;
+  for (auto _ : state) {
+    msd::compute_forces_fast(fx.model, fx.x, fx.v, fx.f, buffers);
+    benchmark::DoNotOptimize(fx.f.data());
+  }
+  state.SetLabel(names[state.range(0)]);
+  state.counters["tets"] = fx.model.num_elements();
+  state.counters["s_per_element"] = benchmark::Counter(
+      static_cast<double>(state.iterations() * fx.model.num_elements()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 // fast: the engine on state.range(0) threads (or range(1) with a size in range(0)); else the reference loop.
 void run(benchmark::State& state, unsigned terms, double threshold, double squeeze, bool fast = false,
          bool scaling = false, bool laws = false) {
@@ -110,6 +168,7 @@ void BM_ReferenceScaling(benchmark::State& s) { run(s, kFull, 0.0, 0.95, false, 
 BENCHMARK(BM_ReferenceSprings);
 BENCHMARK(BM_FastSprings)->Arg(1);
 BENCHMARK(BM_FastSpringLaws)->Arg(1);
+BENCHMARK(BM_FastLadder)->DenseRange(0, 3);
 BENCHMARK(BM_ReferenceDampers);
 BENCHMARK(BM_FastDampers)->Arg(1);
 BENCHMARK(BM_ReferenceRepulsion);

@@ -140,14 +140,15 @@ MsdSpec parse_msd(const Fields& f) {
           "volume_factor", "damping_time", "repulsion_floor", "mass_lumping", "terms", "nonlinear_threshold",
           "integrator", "dt", "calibration", "rtol", "atol", "threads", "forces", "newton_tolerance",
           "newton_max_iterations", "newton_max_step_cuts", "newton_reuse_factorization", "newton_linear_solver",
-          "continuum_volume", "edge_classes", "bulk_factor"});
+          "continuum_volume", "edge_classes", "bulk_factor", "zero_length_springs"});
   MsdSpec m;
   m.constants = choice(f, "msd.constants");
   const bool raw = m.constants == "raw";
   for (const char* k : {"k_s", "k_d", "k_r", "k_v"})
     if (!raw && f.has(k))
       throw msd::Error(f.where(k) + "raw constants need 'constants: raw'");
-  for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time", "calibration", "bulk_factor"})
+  for (const char* k : {"stiffness_scale", "repulsion_factor", "volume_factor", "damping_time", "calibration", "bulk_factor",
+                        "zero_length_springs"})
     if (raw && f.has(k))
       throw msd::Error(f.where(k) + "only meaningful with 'constants: physical'");
   if (f.has("calibration")) {
@@ -181,6 +182,15 @@ MsdSpec parse_msd(const Fields& f) {
   if (f.has("bulk_factor") && !has_term("bulk"))
     throw msd::Error(f.where("bulk_factor") + "only meaningful with the bulk term in 'terms'");
   if (auto classes = f.optional_section("edge_classes")) parse_edge_classes(*classes, m);
+  if (f.has("zero_length_springs")) {
+    m.zero_length_springs = tbio::read_flag(f, spec_parameter("msd.zero_length_springs"));
+    if (m.zero_length_springs && !(has_term("springs") && has_term("bulk")))
+      throw msd::Error(f.where("zero_length_springs") +
+                       "needs the springs and the bulk term in 'terms' (the bulk term's rest pressure holds the springs' pull)");
+    if (m.zero_length_springs && f.has("edge_classes"))
+      throw msd::Error(f.where("edge_classes") +
+                       "does not apply with zero_length_springs (their weights are the cotangent weights)");
+  }
   m.continuum_volume = choice(f, "msd.continuum_volume");
   if (f.has("continuum_volume") && std::find(m.terms.begin(), m.terms.end(), "neo_hookean") == m.terms.end())
     throw msd::Error(f.where("continuum_volume") + "only meaningful with the neo_hookean term in 'terms'");
@@ -409,8 +419,11 @@ Spec parse_spec(const std::string& text, const std::string& source) {
         throw msd::Error(f.section("msd").where("terms") + "the " + term + " term needs 'constants: physical' (E and Poisson's ratio)");
       if (!s.material.poisson_ratio)
         throw msd::Error(f.where("material") + "poisson_ratio is required for the msd term " + term);
-      if (std::string(term) == "bulk" && !(*s.material.poisson_ratio > 0.25))
+      if (std::string(term) == "bulk" && !s.msd->zero_length_springs && !(*s.material.poisson_ratio > 0.25))
         throw msd::Error(f.where("material") + "poisson_ratio must be above 0.25 for the msd term bulk (springs alone have 1/4; got " +
+                         tbio::json_number(*s.material.poisson_ratio) + ")");
+      if (std::string(term) == "bulk" && s.msd->zero_length_springs && !(*s.material.poisson_ratio > 0.0))
+        throw msd::Error(f.where("material") + "poisson_ratio must be above 0 for the msd term bulk with zero_length_springs (lambda > 0; got " +
                          tbio::json_number(*s.material.poisson_ratio) + ")");
     }
   return s;

@@ -143,17 +143,24 @@ Spec suite_variant(const Spec& spec, const std::string& variant, const std::stri
       n["msd"]["continuum_volume"] = "per_cube";
     });
   }
-  if (variant == "physical_lattice") {
+  if (variant == "physical_lattice" || variant == "neo_lattice") {
     // The lattice with every constant from E and nu, nothing fitted
-    // (docs/msd-model.md section 4, the bulk term): isotropic springs whose
-    // shear modulus is the material's - face diagonals d = 3 mu / (s_lattice E)
-    // = 1.8 / (1 + nu), cube edges a = d / 2 - and the per-cube bulk term with
-    // K = lambda - mu, so the Cauchy-Born elasticity is the continuum's. The
-    // static loadings (uni-axial, shear, static) are solved quasi-statically,
-    // as the FEM solves them; vibration and indentation keep the spec's
-    // integrator (the quasi-static step holds no contact).
-    if (spec.msd->constants != "physical" || !spec.material.poisson_ratio || !(*spec.material.poisson_ratio > 0.25))
-      throw msd::Error(spec.path + ": the physical_lattice variant needs physical constants and material.poisson_ratio above 0.25");
+    // (docs/msd-model.md section 4, the bulk term).
+    //  - physical_lattice: isotropic springs whose shear modulus is the
+    //    material's - face diagonals d = 3 mu / (s_lattice E) = 1.8 / (1 + nu),
+    //    cube edges a = d / 2 - and the per-cube bulk term with K = lambda - mu,
+    //    so the Cauchy-Born elasticity is the continuum's at small strain;
+    //  - neo_lattice: zero-length springs with cotangent weights and the bulk
+    //    term's neo-Hookean law (msd/forces/zero_length_springs.hpp), whose
+    //    energy is the compressible neo-Hookean one at every strain.
+    // The static loadings (uni-axial, shear, static) are solved
+    // quasi-statically, as the FEM solves them; vibration and indentation keep
+    // the spec's integrator (the quasi-static step holds no contact).
+    const bool neo = variant == "neo_lattice";
+    if (spec.msd->constants != "physical" || !spec.material.poisson_ratio ||
+        !(*spec.material.poisson_ratio > (neo ? 0.0 : 0.25)))
+      throw msd::Error(spec.path + ": the " + variant + " variant needs physical constants and material.poisson_ratio above " +
+                       (neo ? "0" : "0.25"));
     const double d = 1.8 / (1.0 + *spec.material.poisson_ratio);
     const bool statics = spec.loading.type == Loading::Uniaxial || spec.loading.type == Loading::SimpleShear ||
                          spec.loading.type == Loading::Static;
@@ -167,8 +174,12 @@ Spec suite_variant(const Spec& spec, const std::string& variant, const std::stri
       // no counterpart of.
       n["msd"]["terms"] = statics ? std::vector<std::string>{"springs", "bulk"}
                                   : std::vector<std::string>{"springs", "dampers", "bulk"};
-      n["msd"]["edge_classes"]["axis"]["stiffness"] = d / 2.0;
-      n["msd"]["edge_classes"]["face_diagonal"]["stiffness"] = d;
+      if (neo) {
+        n["msd"]["zero_length_springs"] = true;
+      } else {
+        n["msd"]["edge_classes"]["axis"]["stiffness"] = d / 2.0;
+        n["msd"]["edge_classes"]["face_diagonal"]["stiffness"] = d;
+      }
       if (statics) {
         // One equilibrium per output sample; the rung's static matrix (springs
         // and the bulk term, no dampers) is symmetric, so Newton on the
@@ -180,7 +191,7 @@ Spec suite_variant(const Spec& spec, const std::string& variant, const std::stri
       }
     });
   }
-  throw msd::Error("suite: unknown variant '" + variant + "' (thesis, physical, calibrated, lattice, continuum, physical_lattice)");
+  throw msd::Error("suite: unknown variant '" + variant + "' (thesis, physical, calibrated, lattice, continuum, physical_lattice, neo_lattice)");
 }
 
 SuiteTier load_tier(const std::string& path) {
@@ -194,9 +205,9 @@ SuiteTier load_tier(const std::string& path) {
   t.variants = f.has("variants") ? f.text_list("variants") : std::vector<std::string>{"physical"};
   for (const auto& v : t.variants)
     if (v != "thesis" && v != "physical" && v != "calibrated" && v != "lattice" && v != "continuum" &&
-        v != "physical_lattice")
+        v != "physical_lattice" && v != "neo_lattice")
       throw msd::Error(f.where("variants") + "unknown variant '" + v +
-                       "' (thesis, physical, calibrated, lattice, continuum, physical_lattice)");
+                       "' (thesis, physical, calibrated, lattice, continuum, physical_lattice, neo_lattice)");
   auto items = [&](const std::string& key, const std::function<void(const Fields&)>& each) {
     const YAML::Node list = root[key];
     if (!list) return;
@@ -211,7 +222,7 @@ SuiteTier load_tier(const std::string& path) {
     t.benchmarks.push_back({b.text("spec"), edit_text(b)});
   });
   items("sweeps", [&](const Fields& s) {
-    s.only({"spec", "spacing", "dt", "integrators", "terms", "thresholds", "fem_levels", "point_timeout"});
+    s.only({"spec", "spacing", "dt", "integrators", "terms", "thresholds", "fem_levels", "point_timeout", "quasi_static"});
     SuiteTier::Sweep w;
     w.spec = s.text("spec");
     if (s.has("spacing")) w.spacing = s.number_list("spacing");
@@ -225,6 +236,10 @@ SuiteTier load_tier(const std::string& path) {
       w.fem_levels.emplace_back(std::stoul(l.substr(0, colon)), std::stoul(l.substr(colon + 1)));
     }
     w.point_timeout = s.number_or("point_timeout", 0.0);
+    const std::string statics = s.text_or("quasi_static", "false");
+    if (statics != "true" && statics != "false")
+      throw msd::Error(s.where("quasi_static") + "is true or false (got '" + statics + "')");
+    w.quasi_static = statics == "true";
     t.sweeps.push_back(w);
   });
   items("stability", [&](const Fields& s) {
@@ -470,6 +485,7 @@ tbio::Json run_sweeps(const SuiteTier& tier, const std::vector<Spec>& specs, con
     g.term_sets = w.terms;
     g.thresholds = w.thresholds;
     g.fem_levels = w.fem_levels;
+    g.quasi_static = w.quasi_static;
     SweepOptions so;
     so.out_dir = (dir / "sweep").string();
     so.executable = o.executable;

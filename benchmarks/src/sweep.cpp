@@ -159,7 +159,9 @@ std::vector<std::string> term_set(const std::string& name) {
   if (name == "no_volume") return {"springs", "dampers", "repulsion"};
   if (name == "springs_dampers") return {"springs", "dampers"};
   if (name == "continuum") return {"neo_hookean", "dampers"};
-  throw msd::Error("sweep: unknown term set '" + name + "' (expected all, no_repulsion, no_volume, springs_dampers, continuum)");
+  if (name == "neo_lattice") return {"springs", "dampers", "bulk"};
+  throw msd::Error("sweep: unknown term set '" + name +
+                   "' (expected all, no_repulsion, no_volume, springs_dampers, continuum, neo_lattice)");
 }
 
 void set_term_set(YAML::Node& msd, const std::string& name) {
@@ -168,7 +170,13 @@ void set_term_set(YAML::Node& msd, const std::string& name) {
     msd["continuum_volume"] = "per_cube";
   else if (msd["continuum_volume"])
     msd.remove("continuum_volume");
-  if (msd["bulk_factor"]) msd.remove("bulk_factor");  // no term set has the bulk term
+  if (msd["bulk_factor"]) msd.remove("bulk_factor");  // the sets with the bulk term take its default
+  if (name == "neo_lattice") {
+    msd["zero_length_springs"] = true;
+    msd.remove("edge_classes");
+  } else if (msd["zero_length_springs"]) {
+    msd.remove("zero_length_springs");
+  }
 }
 
 std::vector<SweepPoint> sweep_points(const Spec& spec, const SweepGrid& g) {
@@ -214,6 +222,16 @@ std::vector<SweepPoint> sweep_points(const Spec& spec, const SweepGrid& g) {
             p.dt = d;
             pts.push_back(p);
           }
+        if (g.quasi_static && (spec.loading.type == Loading::Uniaxial || spec.loading.type == Loading::SimpleShear ||
+                               spec.loading.type == Loading::Static)) {
+          SweepPoint p;
+          p.spacing = h;
+          p.terms = t;
+          p.threshold = th;
+          p.integrator = "quasi_static";
+          p.dt = spec.output.interval;
+          pts.push_back(p);
+        }
         if (g.cvode && spec.loading.type != Loading::Indentation) {  // CVODE cannot integrate contact
           SweepPoint p;
           p.spacing = h;
@@ -243,6 +261,17 @@ std::string point_spec_text(const Spec& spec, const SweepPoint& p) {
     m["dt"] = p.dt;
   }
   set_term_set(m, p.terms);
+  if (p.integrator == "quasi_static") {
+    // No dampers: the solve has no rate, and the sampled stress would add
+    // them at the step's mean rate. Newton on the symmetric part is exact
+    // Newton where every term has an energy (not the thesis' volume term).
+    std::vector<std::string> terms;
+    for (const auto& t : term_set(p.terms))
+      if (t != "dampers") terms.push_back(t);
+    m["terms"] = terms;
+    const bool potential = std::find(terms.begin(), terms.end(), "volume") == terms.end();
+    m["newton_linear_solver"] = potential ? "symmetric_ldlt" : "sparse_lu";
+  }
   if (p.threshold > 0.0) m["nonlinear_threshold"] = p.threshold;
   else m["nonlinear_threshold"] = "off";
   if (spec.msd && !spec.msd->calibration.empty()) m["calibration"] = fs::absolute(spec.msd->calibration).string();
@@ -273,7 +302,7 @@ void fill_time_errors(std::vector<SweepPoint>& pts, const std::string& load_seri
   if (load_series.empty() || !(load_rms_fem > 0.0)) return;
   std::map<int, Results> cvode_runs;  // each CVODE point's file, read once
   for (auto& p : pts) {
-    if (p.integrator == "cvode" || p.status != "complete") continue;
+    if (p.integrator == "cvode" || p.integrator == "quasi_static" || p.status != "complete") continue;
     const SweepPoint* ref = nullptr;
     for (const auto& q : pts)
       if (q.integrator == "cvode" && q.status == "complete" && same(q.spacing, p.spacing) && q.terms == p.terms &&

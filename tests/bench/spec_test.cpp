@@ -289,6 +289,30 @@ TEST(Spec, TheBulkTermIsReadWithItsFactorAndRefusedWhereItCannotWork) {
   says(replace(with, "constants: physical", "constants: raw, k_s: 1"), "msd.bulk_factor: only meaningful with 'constants: physical'");
 }
 
+TEST(Spec, ZeroLengthSpringsAreAFlagOfTheLatticeWithTheBulkTermAndRefusedWhereTheyCannotWork) {
+  const std::string with = replace(replace(kGood, "youngs_modulus: 5000}", "youngs_modulus: 5000, poisson_ratio: 0.2}"),
+                                   "dt: 1.0e-4}", "dt: 1.0e-4, terms: [springs, dampers, bulk], zero_length_springs: true}");
+  const bench::Spec s = bench::parse_spec(with, "s.yaml");
+  EXPECT_TRUE(s.msd->zero_length_springs);  // and nu = 0.2 is allowed: the law's lambda > 0
+  const auto says = [](const std::string& text, const std::string& what) {
+    const std::string e = error_of(text);
+    EXPECT_NE(e.find(what), std::string::npos) << e;
+  };
+  // Springs with a rest length need nu above 1/4 for the bulk term.
+  says(replace(with, "zero_length_springs: true", "zero_length_springs: false"), "poisson_ratio must be above 0.25");
+  EXPECT_FALSE(bench::parse_spec(replace(replace(with, "zero_length_springs: true", "zero_length_springs: false"),
+                                         "poisson_ratio: 0.2", "poisson_ratio: 0.3"),
+                                 "s.yaml")
+                   .msd->zero_length_springs);
+  says(replace(with, "springs, dampers, bulk", "springs, dampers"), "msd.zero_length_springs: needs the springs and the bulk term");
+  says(replace(with, "springs, dampers, bulk", "dampers, bulk"), "msd.zero_length_springs: needs the springs and the bulk term");
+  says(replace(with, "zero_length_springs: true", "zero_length_springs: true, edge_classes: {axis: {stiffness: 0.5}}"),
+       "msd.edge_classes: does not apply with zero_length_springs");
+  says(replace(with, "zero_length_springs: true", "zero_length_springs: yes please"), "msd.zero_length_springs");
+  says(replace(with, "poisson_ratio: 0.2", "poisson_ratio: -0.1"), "poisson_ratio must be above 0 for the msd term bulk with zero_length_springs");
+  says(replace(with, "constants: physical", "constants: raw, k_s: 1"), "msd.zero_length_springs: only meaningful with 'constants: physical'");
+}
+
 TEST(Spec, QuasiStaticIsAnIntegratorWithNewtonsFieldsAndIsRefusedForAVibration) {
   const std::string with = replace(kGood, "dt: 1.0e-4}", "dt: 1.0e-2, integrator: quasi_static, newton_tolerance: 1.0e-9}");
   const bench::Spec s = bench::parse_spec(with, "s.yaml");

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 
 namespace {
@@ -26,9 +27,19 @@ TEST(Suite, ShippedTiersLoadAndNameTheirSpecs) {
   for (const char* tier : {"quick", "full"}) {
     const bench::SuiteTier t = bench::load_tier(std::string(TISSUEBENCH_SUITES_DIR) + "/" + tier + ".yaml");
     EXPECT_EQ(t.name, tier);
-    EXPECT_EQ(t.variants, (std::vector<std::string>{"thesis", "physical", "calibrated", "continuum", "physical_lattice"}));
+    // The quick tier (CI's) runs the neo-Hookean lattice as its lattice rung;
+    // the full one runs both lattice rungs for the whole ladder.
+    const std::vector<std::string> ladder{"thesis", "physical", "calibrated", "continuum"};
+    std::vector<std::string> expected = ladder;
+    if (std::string(tier) == "full") expected.push_back("physical_lattice");
+    expected.push_back("neo_lattice");
+    EXPECT_EQ(t.variants, expected);
     EXPECT_GE(t.benchmarks.size(), 5u);
-    EXPECT_FALSE(t.sweeps.empty());
+    ASSERT_FALSE(t.sweeps.empty());
+    // The sweep holds both families' rungs, with the quasi-static points.
+    EXPECT_TRUE(t.sweeps.front().quasi_static) << tier;
+    EXPECT_NE(std::find(t.sweeps.front().terms.begin(), t.sweeps.front().terms.end(), "neo_lattice"),
+              t.sweeps.front().terms.end()) << tier;
     EXPECT_FALSE(t.stability.empty());
     EXPECT_FALSE(t.verification.empty());
     bool indentation = false;
@@ -132,4 +143,18 @@ TEST(Suite, VariantsSetTheThesisConstantsOrTheMaterialsCalibration) {
   EXPECT_EQ(ringing.msd->integrator, "bdf2");  // a vibration keeps its integrator
   EXPECT_EQ(ringing.msd->terms, (std::vector<std::string>{"springs", "dampers", "bulk"}));
   EXPECT_THROW(bench::suite_variant(without, "physical_lattice", cal), msd::Error);
+  // The neo-Hookean lattice: zero-length springs and the bulk term's
+  // neo-Hookean law, no class factors, quasi-static where the FEM is.
+  const bench::Spec neo = bench::suite_variant(spec, "neo_lattice", cal);
+  EXPECT_TRUE(neo.msd->zero_length_springs);
+  EXPECT_EQ(neo.msd->terms, (std::vector<std::string>{"springs", "bulk"}));
+  EXPECT_TRUE(neo.msd->edge_laws[0].stiffness == 1.0 && neo.msd->edge_laws[1].stiffness == 1.0);
+  EXPECT_EQ(neo.msd->integrator, "quasi_static");
+  EXPECT_DOUBLE_EQ(neo.msd->dt, spec.output.interval);
+  const bench::Spec neo_ringing =
+      bench::suite_variant(bench::load_spec(std::string(TISSUEBENCH_SPECS_DIR) + "/vibration.yaml"), "neo_lattice", cal);
+  EXPECT_EQ(neo_ringing.msd->integrator, "bdf2");
+  EXPECT_EQ(neo_ringing.msd->terms, (std::vector<std::string>{"springs", "dampers", "bulk"}));
+  EXPECT_TRUE(neo_ringing.msd->zero_length_springs);
+  EXPECT_THROW(bench::suite_variant(without, "neo_lattice", cal), msd::Error);
 }

@@ -113,3 +113,45 @@ TEST(Sweep, TermSets) {
   EXPECT_EQ(bench::term_set("springs_dampers"), (std::vector<std::string>{"springs", "dampers"}));
   EXPECT_THROW(bench::term_set("nothing"), msd::Error);
 }
+
+TEST(Sweep, QuasiStaticPointsComeOncePerSpatialConfigurationAndTermSetWithoutTheirDampers) {
+  std::string text = kSpec;
+  const std::string e = "youngs_modulus: 5000,";
+  text.replace(text.find(e), e.size(), e + " poisson_ratio: 0.45,");
+  const bench::Spec spec = bench::parse_spec(text, "small.yaml");
+  bench::SweepGrid g;
+  g.spacing = {0.02};
+  g.dt = {2e-4, 1e-3};
+  g.integrators = {"velocity_verlet"};
+  g.term_sets = {"neo_lattice", "all"};
+  g.thresholds = {0.0};
+  g.cvode = false;
+  g.quasi_static = true;
+  const auto pts = bench::sweep_points(spec, g);
+  ASSERT_EQ(pts.size(), 2u * (2u + 1u));  // per term set: two dynamic points and one quasi-static
+  int statics = 0;
+  for (const auto& p : pts) {
+    const bench::Spec s = bench::parse_spec(bench::point_spec_text(spec, p), "p.yaml");
+    EXPECT_EQ(s.msd->zero_length_springs, p.terms == "neo_lattice");
+    if (p.integrator != "quasi_static") {
+      EXPECT_EQ(s.msd->integrator, "velocity_verlet");
+      EXPECT_EQ(s.msd->terms, bench::term_set(p.terms));
+      continue;
+    }
+    ++statics;
+    EXPECT_DOUBLE_EQ(p.dt, spec.output.interval);
+    EXPECT_DOUBLE_EQ(s.msd->dt, spec.output.interval);
+    if (p.terms == "neo_lattice") {
+      EXPECT_EQ(s.msd->terms, (std::vector<std::string>{"springs", "bulk"}));
+      EXPECT_EQ(s.msd->newton_linear_solver, "symmetric_ldlt");  // every term has an energy: symmetric
+    } else {
+      EXPECT_EQ(s.msd->terms, (std::vector<std::string>{"springs", "repulsion", "volume"}));
+      EXPECT_EQ(s.msd->newton_linear_solver, "sparse_lu");  // the thesis' volume term is not symmetric
+    }
+  }
+  EXPECT_EQ(statics, 2);
+  // Without the flag: none.
+  g.quasi_static = false;
+  EXPECT_EQ(bench::sweep_points(spec, g).size(), 4u);
+  EXPECT_EQ(bench::term_set("neo_lattice"), (std::vector<std::string>{"springs", "dampers", "bulk"}));
+}

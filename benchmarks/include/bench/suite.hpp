@@ -46,6 +46,7 @@ struct SuiteTier {
     std::vector<double> thresholds;  ///< 0 = off
     std::vector<std::pair<unsigned, unsigned>> fem_levels;
     double point_timeout = 0.0;
+    bool quasi_static = false;  ///< SweepGrid::quasi_static
   };
   std::vector<Sweep> sweeps;
   struct Stability {

@@ -33,9 +33,16 @@ struct SweepGrid {
   std::vector<double> spacing;                ///< m; default: the spec's h and 2h
   std::vector<double> dt;                     ///< s; default: the spec's dt and 2.5 dt
   std::vector<std::string> integrators;       ///< default: symplectic_euler, velocity_verlet, explicit_euler
-  std::vector<std::string> term_sets;         ///< all | no_repulsion | no_volume | springs_dampers | continuum (default: the first four)
+  std::vector<std::string> term_sets;         ///< all | no_repulsion | no_volume | springs_dampers | continuum | neo_lattice (default: the first four)
   std::vector<double> thresholds;             ///< 0 = off; default: off and 0.7
   bool cvode = true;                          ///< add the CVODE point of each spatial configuration
+  /// Add one quasi-static point (msd.integrator: quasi_static, dt = the
+  /// spec's output interval, the term set without its dampers - the solve
+  /// has no rate) per spatial configuration and term set, when the spec's
+  /// loading is static (uni-axial, shear, static): the equilibria the FEM
+  /// reference solves. It has no time error (that measures the dynamic run
+  /// against CVODE's).
+  bool quasi_static = false;
   /// FEM runs besides the reference, as (degree, refinement) on the spec's
   /// coarse cells: their cost and their load-curve error against the
   /// reference go in the same table (the FEM's own speed-accuracy trade).
@@ -46,8 +53,10 @@ struct SweepGrid {
 std::vector<std::string> term_set(const std::string& name);
 
 /// Sets a spec's msd section (a YAML map) to the term set `name`: its terms,
-/// and for `continuum` (the neo_hookean term with the dampers) one volume
-/// ratio per cube (msd.continuum_volume: per_cube).
+/// for `continuum` (the neo_hookean term with the dampers) one volume ratio
+/// per cube (msd.continuum_volume: per_cube), and for `neo_lattice` (springs,
+/// dampers, bulk) zero-length springs (msd.zero_length_springs, no edge
+/// classes).
 void set_term_set(YAML::Node& msd, const std::string& name);
 
 struct SweepPoint {
