@@ -90,29 +90,29 @@ VolumeGroups make_volume_groups(const Model& model, const std::vector<long>& lab
 }
 
 // Zero-length springs (msd/forces/zero_length_springs.hpp): the same for
-// every region, with the springs and the bulk term, not beside the continuum.
+// every region, with the springs and the bulk term.
 void check_zero_length_springs(const ModelOptions& options) {
   for (size_t r = 0; r < options.region_materials.size(); ++r) {
     const std::string where = "material of region " + std::to_string(r) + ": zero_length_springs";
     if (options.region_materials[r].zero_length_springs != options.region_materials[0].zero_length_springs)
       throw Error(where + " differs from region 0's: give every region the same springs");
     if (!options.region_materials[r].zero_length_springs) continue;
+    // (Beside the neo_hookean term the bulk term is refused already: one volume term per model.)
     if (!(options.terms & kSprings) || !(options.terms & kBulk))
       throw Error(where + " need the springs and the bulk term (its rest pressure holds the springs' pull)");
-    if (options.terms & kNeoHookean)
-      throw Error(where + " are the lattice's springs; the neo_hookean term is another element: choose one");
   }
 }
 
 // A tet's zero-length springs: k = mu w (the cotangent weights of its rest
-// corners x), dampers k_d = damping_time k, rest length 0.
+// corners x), rest length 0. The dampers keep element_constants' k_d =
+// damping_time k_s of the physical rule (tissue_material.hpp; why:
+// zero_length_springs.hpp).
 void set_zero_length_springs(const TissueMaterial& mat, int region, const Vec3 x[4], Element& el) {
   const double mu = scaled_shear_modulus(mat, "material of region " + std::to_string(region), "zero_length_springs");
   double w[6];
   cotangent_weights(x, w);
   for (int k = 0; k < 6; ++k) {
     el.k.k_s[k] = mu * w[k];
-    el.k.k_d[k] = mat.damping_time * el.k.k_s[k];
     el.rest_length[k] = 0.0;
   }
 }

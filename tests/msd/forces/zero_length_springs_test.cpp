@@ -148,7 +148,7 @@ TEST(ZeroLengthSprings, TheNeoHookeanBulkLawsPressureAndStiffnessAreItsEnergysDe
   EXPECT_NEAR(msd::bulk_law_energy(law, 1.0), 0.0, 1e-12 * mu);
   EXPECT_NEAR(msd::bulk_law_pressure(law, 1.0), -mu, 1e-12 * mu);
   EXPECT_NEAR(msd::bulk_law_stiffness(law, 1.0), mu + lambda, 1e-12 * lambda);
-  // Central differences above, across and below the floor (0.1): C2 there.
+  // Central differences above and below the floor (0.1), and at it below.
   for (double J : {1.7, 1.0, 0.6, 0.2, 0.1 + 1e-4, 0.1 - 1e-4, 0.05, 0.0, -0.3}) {
     const double d = 1e-6;
     const double p = (msd::bulk_law_energy(law, J + d) - msd::bulk_law_energy(law, J - d)) / (2 * d);
@@ -158,6 +158,11 @@ TEST(ZeroLengthSprings, TheNeoHookeanBulkLawsPressureAndStiffnessAreItsEnergysDe
     EXPECT_NEAR(msd::bulk_law_stiffness(law, J), k, 1e-5 * ks) << J;
     EXPECT_TRUE(std::isfinite(msd::bulk_law_energy(law, J))) << J;
   }
+  // C2 at the floor itself: value, pressure and stiffness meet from both sides.
+  const double f = msd::kBulkFloor, e = 1e-9;
+  EXPECT_NEAR(msd::bulk_law_energy(law, f - e), msd::bulk_law_energy(law, f + e), 1e-6 * mu);
+  EXPECT_NEAR(msd::bulk_law_pressure(law, f - e), msd::bulk_law_pressure(law, f + e), 1e-6 * (mu + lambda));
+  EXPECT_NEAR(msd::bulk_law_stiffness(law, f - e), msd::bulk_law_stiffness(law, f + e), 1e-6 * msd::bulk_law_stiffness(law, f));
   // Crushed or inverted, it pushes outwards ever harder.
   EXPECT_LT(msd::bulk_law_pressure(law, -0.3), msd::bulk_law_pressure(law, 0.05));
   EXPECT_LT(msd::bulk_law_pressure(law, 0.05), -mu);
@@ -211,11 +216,11 @@ TEST(ZeroLengthSprings, InAModelTheEnergyIsTheNeoHookeanEnergyAndTheForcesAreMin
 }
 
 TEST(ZeroLengthSprings, ABodyOfCubesAndACylinderWithMovedBoundaryNodesAreForceFreeAtRest) {
-  // Each spring pulls at rest; per tet the pull is mu dV/dx (the weights'
-  // identity), which the law's rest pressure -mu cancels cube by cube.
+  // Each spring pulls at rest; per tet the springs' force on a corner is
+  // -mu dV/dx (the weights' identity), which the law's rest pressure -mu
+  // cancels (+mu dV/dx) cube by cube.
   for (const Meshed& mesh : {block(Vec3(0.03, 0.02, 0.04)), cylinder()}) {
     const msd::Model m = build(mesh);
-    const msd::Model springs = build(mesh, msd::kSprings | msd::kBulk, material());
     msd::Points f, zero = msd::Points::Zero(3, m.num_nodes());
     msd::compute_internal_forces(m, m.rest_positions, zero, f);
     // The springs' pull alone, for scale: the bulk term's pressure at J = 1 is -mu.

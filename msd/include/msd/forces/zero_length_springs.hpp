@@ -41,6 +41,17 @@
 // The spring force and its derivative are edge_springs.hpp's with rest
 // length 0: F_a = k l (l = x_b - x_a), dF_a/dl = k I - linear, so Newton's
 // matrix of the springs does not change from step to step.
+//
+// The dampers stay the lattice's edge dampers of the physical rule,
+// k_d = damping_time k_s with k_s = s_lattice E V / L^2 (tissue_material.hpp):
+// that network of axial elements has the modulus E, so its dampers give the
+// viscous modulus damping_time E of the FEM's stiffness-proportional damping.
+// Dampers k_d = damping_time k on the zero-length springs would damp too
+// little: an edge damper resists the edge's stretching rate only, while a
+// zero-length spring's stiffness k I acts across its edge as much as along
+// it. Measured on the ring-down (vibration.yaml): damping ratio 0.060 with
+// those against the FEM's 0.173; 0.201 with the physical rule's
+// (benchmarks/results/2026-12-04-neo-lattice.md).
 #pragma once
 
 #include "msd/core/types.hpp"

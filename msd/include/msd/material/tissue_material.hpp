@@ -74,8 +74,8 @@ struct TissueMaterial {
   /// read only with the bulk term, msd/forces/bulk_volume.hpp).
   double bulk_factor = 1.0;
   /// The springs have rest length 0 and the cotangent weights of
-  /// msd/forces/zero_length_springs.hpp (k = stiffness_scale mu w, dampers
-  /// k_d = damping_time k), and the bulk term has the neo-Hookean law: the
+  /// msd/forces/zero_length_springs.hpp (k = stiffness_scale mu w; the
+  /// dampers keep the physical rule's k_d), and the bulk term has the neo-Hookean law: the
   /// lattice whose energy is the compressible neo-Hookean one. Physical
   /// constants with a Poisson's ratio, the bulk term, no edge classes.
   bool zero_length_springs = false;
