@@ -217,7 +217,7 @@ def sweep_section(d, path):
 
     fig, ax = plt.subplots(figsize=(6.0, 4.2))
     for terms, marker in (("all", "o"), ("springs_dampers", "s"), ("no_repulsion", "^"), ("no_volume", "v"),
-                          ("continuum", "P")):
+                          ("continuum", "P"), ("neo_lattice", "*")):
         sel = [p for p in pts if p["terms"] == terms and p["integrator"] != "cvode" and err(p) is not None]
         if sel:
             ax.scatter([p["cost"] for p in sel], [100 * err(p) for p in sel], marker=marker, s=28,

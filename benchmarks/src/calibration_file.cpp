@@ -58,6 +58,9 @@ void apply_edge_classes(MsdSpec& msd, const CalibrationParameters& p) {
 void apply_calibration(Spec& spec, const std::string& file, const std::string& where) {
   if (!spec.msd || spec.msd->constants != "physical")
     throw msd::Error(where + file + ": a calibration applies to 'msd.constants: physical'");
+  if (spec.msd->zero_length_springs)
+    throw msd::Error(where + file + ": the calibrations fit the thesis' springs; msd.zero_length_springs takes every "
+                     "constant from E and nu (no calibration for it is shipped)");
   std::string material;
   CalibrationParameters c;
   try {

@@ -294,9 +294,12 @@ std::vector<std::pair<std::string, double>> material_record(const Spec& spec,
   }
   if (spec.material.poisson_ratio) r.emplace_back("poisson_ratio", *spec.material.poisson_ratio);
   if (model.terms & msd::kBulk && !model.volume_groups.bulk_law.empty()) {
-    r.insert(r.end(), {{"lattice_bulk_factor", m.bulk_factor}, {"lattice_bulk_modulus", model.volume_groups.bulk_law.front().modulus}});
-    if (m.zero_length_springs)
-      r.insert(r.end(), {{"lattice_zero_length_springs", 1.0}, {"lattice_rest_modulus", model.volume_groups.bulk_law.front().rest_modulus}});
+    const msd::BulkLaw& law = model.volume_groups.bulk_law.front();
+    r.emplace_back("lattice_bulk_factor", m.bulk_factor);
+    if (law.neo_hookean)  // its modulus is lambda, the rest modulus mu (bulk_volume.hpp)
+      r.insert(r.end(), {{"lattice_zero_length_springs", 1.0}, {"lattice_lambda", law.modulus}, {"lattice_rest_modulus", law.rest_modulus}});
+    else
+      r.emplace_back("lattice_bulk_modulus", law.modulus);
   }
   if (!m.thesis_springs())
     for (int c = 0; c < msd::kEdgeClasses; ++c) {

@@ -187,6 +187,9 @@ MsdSpec parse_msd(const Fields& f) {
     if (m.zero_length_springs && !(has_term("springs") && has_term("bulk")))
       throw msd::Error(f.where("zero_length_springs") +
                        "needs the springs and the bulk term in 'terms' (the bulk term's rest pressure holds the springs' pull)");
+    if (m.zero_length_springs && f.has("calibration"))
+      throw msd::Error(f.where("calibration") +
+                       "does not apply with zero_length_springs (the calibrations fit the thesis' springs; no calibration for them is shipped)");
     if (m.zero_length_springs && f.has("edge_classes"))
       throw msd::Error(f.where("edge_classes") +
                        "does not apply with zero_length_springs (their weights are the cotangent weights)");

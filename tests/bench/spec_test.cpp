@@ -309,6 +309,8 @@ TEST(Spec, ZeroLengthSpringsAreAFlagOfTheLatticeWithTheBulkTermAndRefusedWhereTh
   says(replace(with, "zero_length_springs: true", "zero_length_springs: true, edge_classes: {axis: {stiffness: 0.5}}"),
        "msd.edge_classes: does not apply with zero_length_springs");
   says(replace(with, "zero_length_springs: true", "zero_length_springs: yes please"), "msd.zero_length_springs");
+  says(replace(with, "zero_length_springs: true", "zero_length_springs: true, calibration: c.yaml"),
+       "msd.calibration: does not apply with zero_length_springs");
   says(replace(with, "poisson_ratio: 0.2", "poisson_ratio: -0.1"), "poisson_ratio must be above 0 for the msd term bulk with zero_length_springs");
   says(replace(with, "constants: physical", "constants: raw, k_s: 1"), "msd.zero_length_springs: only meaningful with 'constants: physical'");
 }
