@@ -155,3 +155,28 @@ TEST(Sweep, QuasiStaticPointsComeOncePerSpatialConfigurationAndTermSetWithoutThe
   EXPECT_EQ(bench::sweep_points(spec, g).size(), 4u);
   EXPECT_EQ(bench::term_set("neo_lattice"), (std::vector<std::string>{"springs", "dampers", "bulk"}));
 }
+
+TEST(Sweep, ExplicitPointsOfASpecShippedWithNewtonsFieldsDropThemAndImplicitOnesKeepThem) {
+  // vibration.yaml ships BDF2 with newton_linear_solver: symmetric_ldlt; a
+  // symplectic Euler point of it is refused by the spec unless the sweep drops the field.
+  std::string text = kSpec;
+  const std::string d = "dt: 1.0e-4}";
+  text.replace(text.find(d), d.size(), "dt: 1.0e-4, integrator: bdf2, newton_linear_solver: symmetric_ldlt, newton_tolerance: 1.0e-9}");
+  const bench::Spec spec = bench::parse_spec(text, "small.yaml");
+  bench::SweepGrid g;
+  g.spacing = {0.02};
+  g.dt = {1e-4};
+  g.integrators = {"symplectic_euler", "bdf2"};
+  g.term_sets = {"springs_dampers"};
+  g.thresholds = {0.0};
+  const auto pts = bench::sweep_points(spec, g);
+  ASSERT_EQ(pts.size(), 3u);  // two fixed steps and CVODE
+  for (const auto& p : pts) {
+    const bench::Spec s = bench::parse_spec(bench::point_spec_text(spec, p), "p.yaml");  // throws if refused
+    EXPECT_EQ(s.msd->integrator, p.integrator);
+    if (p.integrator == "bdf2") {
+      EXPECT_EQ(s.msd->newton_linear_solver, "symmetric_ldlt");
+      EXPECT_DOUBLE_EQ(s.msd->newton_tolerance, 1e-9);
+    }
+  }
+}
