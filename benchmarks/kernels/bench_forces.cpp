@@ -29,19 +29,18 @@ struct Fixture {
   msd::Points x, v, f;
 };
 
-// A 10 x 10 x 20 cm block at h = 1 cm (2,000 cubes, 10,000 tets; or `nx` x
-// `nx` x 2 `nx` cubes), physical constants, positions perturbed randomly and
-// the block squeezed along z by `squeeze` (0.8 = 20 % compression).
-Fixture make_fixture(unsigned terms, double threshold, double squeeze, int threads = 1, int nx = 10,
-                     bool laws = false) {
+// The benchmark block: 10 x 10 x 20 cm at h = 1 cm (2,000 cubes, 10,000
+// tets), or `nx` x `nx` x 2 `nx` cubes.
+msd::SampleMesh block(int nx) {
   msd::SampleMeshOptions o;
   o.spacing = 0.01;
   o.max_cubes = 100000000;
-  const auto sample = msd::mesh_closed_surface(
-      msd::make_box(msd::Vec3::Zero(), msd::Vec3(0.01 * nx, 0.01 * nx, 0.02 * nx)), o, "benchmark block");
-  msd::ModelOptions mo;
-  mo.terms = terms;
-  mo.nonlinear_threshold = threshold;
+  return msd::mesh_closed_surface(msd::make_box(msd::Vec3::Zero(), msd::Vec3(0.01 * nx, 0.01 * nx, 0.02 * nx)), o,
+                                  "benchmark block");
+}
+
+// Physical constants shared by every fixture.
+msd::TissueMaterial block_material() {
   msd::TissueMaterial mat;
   mat.mode = msd::ConstantsMode::Physical;
   mat.density = 1000;
@@ -49,13 +48,13 @@ Fixture make_fixture(unsigned terms, double threshold, double squeeze, int threa
   mat.damping_time = 0.01;
   mat.repulsion_factor = 0.2;
   mat.volume_factor = 1.0;
-  if (laws) {
-    mat.edge_laws[0] = {0.3, 1.0, 3.0};
-    mat.edge_laws[1] = {1.0, 1.0, 3.0};
-  }
-  mo.region_materials = {mat};
-  mo.threads = threads;
-  Fixture fx{msd::build_model(sample.mesh, mo), {}, {}, {}};
+  return mat;
+}
+
+// The model built, its positions perturbed randomly (seeded) and the block
+// squeezed along z by `squeeze` (0.8 = 20 % compression), velocities random.
+Fixture perturbed(const msd::TetMesh& mesh, const msd::ModelOptions& mo, double squeeze) {
+  Fixture fx{msd::build_model(mesh, mo), {}, {}, {}};
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   fx.x = fx.model.rest_positions;
@@ -69,20 +68,29 @@ Fixture make_fixture(unsigned terms, double threshold, double squeeze, int threa
   return fx;
 }
 
-// The ladder's rung `rung` (BM_FastLadder above) on the 10 x 10 x 20 cm block.
-Fixture make_rung(int rung) {
-  msd::SampleMeshOptions o;
-  o.spacing = 0.01;
-  const auto sample = msd::mesh_closed_surface(msd::make_box(msd::Vec3::Zero(), msd::Vec3(0.1, 0.1, 0.2)), o, "benchmark block");
+// The block with the given terms (and the edge classes' laws), squeezed by `squeeze`.
+Fixture make_fixture(unsigned terms, double threshold, double squeeze, int threads = 1, int nx = 10,
+                     bool laws = false) {
+  const auto sample = block(nx);
   msd::ModelOptions mo;
-  msd::TissueMaterial mat;
-  mat.mode = msd::ConstantsMode::Physical;
-  mat.density = 1000;
-  mat.youngs_modulus = 3000;
+  mo.terms = terms;
+  mo.nonlinear_threshold = threshold;
+  msd::TissueMaterial mat = block_material();
+  if (laws) {
+    mat.edge_laws[0] = {0.3, 1.0, 3.0};
+    mat.edge_laws[1] = {1.0, 1.0, 3.0};
+  }
+  mo.region_materials = {mat};
+  mo.threads = threads;
+  return perturbed(sample.mesh, mo, squeeze);
+}
+
+// The ladder's rung `rung` (BM_FastLadder above) on the 10 x 10 x 20 cm block, nu = 0.495.
+Fixture make_rung(int rung) {
+  const auto sample = block(10);
+  msd::ModelOptions mo;
+  msd::TissueMaterial mat = block_material();
   mat.poisson_ratio = 0.495;
-  mat.damping_time = 0.01;
-  mat.repulsion_factor = 0.2;
-  mat.volume_factor = 1.0;
   const unsigned full = msd::kSprings | msd::kDampers | msd::kRepulsion | msd::kVolume;
   mo.terms = rung == 0 ? full : rung == 3 ? (msd::kNeoHookean | msd::kDampers) : (msd::kSprings | msd::kDampers | msd::kBulk);
   if (rung == 1) {
@@ -92,18 +100,7 @@ Fixture make_rung(int rung) {
   mat.zero_length_springs = rung == 2;
   mo.region_materials = {mat};
   if (rung > 0) mo.volume_group = sample.info.tet_cube_id;
-  Fixture fx{msd::build_model(sample.mesh, mo), {}, {}, {}};
-  std::mt19937 rng(1);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  fx.x = fx.model.rest_positions;
-  fx.x.row(2) *= 0.95;
-  fx.v = msd::Points::Zero(3, fx.x.cols());
-  for (Eigen::Index i = 0; i < fx.x.cols(); ++i)
-    for (int a = 0; a < 3; ++a) {
-      fx.x(a, i) += 0.001 * u(rng);
-      fx.v(a, i) = 0.01 * u(rng);
-    }
-  return fx;
+  return perturbed(sample.mesh, mo, 0.95);
 }
 
 void BM_FastLadder(benchmark::State& state) {

@@ -82,9 +82,9 @@ double bulk_group_ratio(const Model& model, int g, const Points& x) {
 
 double volume_group_pressure(const Model& model, int g, const Points& x) {
   const VolumeGroups& G = model.volume_groups;
-  double volume = 0.0;
   if (model.terms & kBulk)
     return bulk_law_pressure(G.bulk_law[static_cast<size_t>(g)], bulk_group_ratio(model, g, x));
+  double volume = 0.0;
   for (int q = G.tet_offset[static_cast<size_t>(g)]; q < G.tet_offset[static_cast<size_t>(g) + 1]; ++q) {
     const size_t t = static_cast<size_t>(G.tets[static_cast<size_t>(q)]);
     const Element& el = model.elements[t];
