@@ -26,6 +26,7 @@ import matplotlib
 import yaml
 
 import leg_report
+import pareto_chart
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -212,34 +213,8 @@ def sweep_section(d, path):
     s = load(os.path.join(d, path))
     pts = [p for p in s["points"] if p["status"] == "complete"]
 
-    def err(p):
-        return p["load_rel_rms_working"] if p["load_rel_rms_working"] is not None else p["load_rel_rms"]
-
-    fig, ax = plt.subplots(figsize=(6.0, 4.2))
-    for terms, marker in (("all", "o"), ("springs_dampers", "s"), ("no_repulsion", "^"), ("no_volume", "v"),
-                          ("continuum", "P"), ("neo_lattice", "*")):
-        sel = [p for p in pts if p["terms"] == terms and p["integrator"] != "cvode" and err(p) is not None]
-        if sel:
-            ax.scatter([p["cost"] for p in sel], [100 * err(p) for p in sel], marker=marker, s=28,
-                       label="MSD, terms " + terms, alpha=0.8)
-    cv = [p for p in pts if p["integrator"] == "cvode" and err(p) is not None]
-    if cv:
-        ax.scatter([p["cost"] for p in cv], [100 * err(p) for p in cv], marker="x", color="k", label="MSD, CVODE")
-    front = sorted((p for p in pts if p["pareto"]), key=lambda p: p["cost"])
-    if len(front) > 1:
-        ax.plot([p["cost"] for p in front], [100 * err(p) for p in front], "k--", lw=1, label="Pareto front")
-    ax.axvline(s["fem"]["cost"], color="tab:purple", lw=1.5, label="FEM reference cost (%s)" % s["fem"]["label"])
-    for lv in s.get("fem_levels", []):
-        if lv["load_rel_rms"] is not None and lv["load_rel_rms"] > 0:
-            ax.scatter([lv["cost"]], [100 * lv["load_rel_rms"]], marker="D", color="tab:purple",
-                       label="FEM Q%d r%d vs reference" % (lv["degree"], lv["refinement"]))
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("cost (wall s per simulated s)")
-    ax.set_ylabel("load-curve error against the FEM (%)")
-    ax.set_title("speed–accuracy: %s" % s["spec"])
-    ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
+    err = pareto_chart.error
+    fig = pareto_chart.sweep_figure(s)
     rows = [{
         "h": "%.2f" % (1e3 * p["spacing"]), "dt": "adaptive" if p["dt"] is None else "%.3g" % (1e3 * p["dt"]),
         "integrator": p["integrator"], "terms": p["terms"], "threshold": "off" if not p["threshold"] else "%.2g" % p["threshold"],

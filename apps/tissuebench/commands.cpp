@@ -183,12 +183,21 @@ int cmd_calibrate(const CalibrateArgs& args) {
   auto log = [&](const std::string& line) {
     if (!args.quiet) std::printf("%s\n", line.c_str()), std::fflush(stdout);
   };
+  std::optional<bench::CalibrationStart> start;
+  if (!args.start.empty()) {
+    std::string material;
+    start = bench::CalibrationStart{bench::read_calibration(args.start, &material), args.start};
+    if (material != args.material)
+      throw msd::Error(args.start + ": material: '" + material + "' is not --material '" + args.material +
+                       "' (a fit starts from a calibration of the same material)");
+  }
   const bench::CalibrationResult r = bench::calibrate(args.material, specs, args.out, {}, log,
                                                       args.max_evaluations, args.volume_weight,
                                                       args.max_damping_evaluations, args.edge_classes,
                                                       args.no_check ? std::vector<std::string>{}
                                                       : args.check_specs.empty() ? bench::shipped_benchmark_specs()
-                                                                                 : args.check_specs);
+                                                                                 : args.check_specs,
+                                                      start);
   const std::string file = (fs::path(args.out) / (args.material + ".yaml")).string();
   bench::write_calibration(r, file);
   std::printf("Calibration of %s: %s after %d iterations, %d evaluations\n", r.material.c_str(),

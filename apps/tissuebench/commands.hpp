@@ -49,6 +49,7 @@ struct CalibrateArgs {
   int max_damping_evaluations = 20;
   double volume_weight = 2.0;
   bool edge_classes = false;  ///< also fit the lattice's axis stiffness and compression exponent
+  std::string start;          ///< a calibration file to start from (empty: the spec's constants)
   /// Specs the fitted set must run without a blow-up or an inverted element
   /// (empty: bench::shipped_benchmark_specs()); --no-check: none.
   std::vector<std::string> check_specs;

@@ -131,6 +131,11 @@ int dispatch(int argc, char** argv) {
   calibrate_cmd->add_flag("--edge-classes", calibrate.edge_classes,
                           "Also fit the lattice's edge classes: the cube edges' stiffness relative to the face "
                           "diagonals' and the spring law's compression exponent (docs/msd-model.md section 4, edge classes)");
+  calibrate_cmd->add_option("--start", calibrate.start,
+                            "A calibration file of the same material whose parameters start the fit (default: "
+                            "the spec's constants; with --edge-classes the isotropic lattice); its damping_time "
+                            "starts stage 2")
+      ->check(CLI::ExistingFile);
   calibrate_cmd->add_option("--check-specs", calibrate.check_specs,
                             "Specs the fitted set is run on after the fit; a blow-up or an inverted element "
                             "refuses the set (default: the shipped uniaxial, shear, bending, bending_gravity, "

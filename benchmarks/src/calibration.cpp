@@ -218,6 +218,44 @@ Eigen::VectorXd elastic_variables(const CalibrationParameters& p, const Calibrat
   return q;
 }
 
+// A fit's start (calibrate --start) must lie strictly inside the bounds: the
+// optimiser's variables are logistic transforms of the parameters, infinite
+// on a bound. Edge classes in the file need an edge-class fit.
+void check_start(const CalibrationStart& start, const CalibrationBounds& b, bool edge_classes) {
+  const CalibrationParameters& s0 = start.parameters;
+  const auto inside = [&](const char* name, double v, double lo, double hi) {
+    if (!(v > lo && v < hi))
+      throw msd::Error(start.file + ": parameters." + name + " = " + json_number(v) +
+                       " is not strictly inside calibrate's bounds (" + json_number(lo) + ", " + json_number(hi) +
+                       "): the fit cannot start there");
+  };
+  inside("stiffness_scale", s0.stiffness_scale, b.scale_lo, b.scale_hi);
+  inside("repulsion_factor", s0.repulsion_factor, b.repulsion_lo, b.repulsion_hi);
+  inside("volume_factor", s0.volume_factor, b.volume_lo, b.volume_hi);
+  if (s0.axis_stiffness && !edge_classes)
+    throw msd::Error(start.file + ": parameters.axis_stiffness: a start with edge classes needs --edge-classes");
+  if (s0.axis_stiffness) {
+    inside("axis_stiffness", *s0.axis_stiffness, b.axis_lo, b.axis_hi);
+    inside("compression_exponent", s0.compression_exponent.value_or(0.0), b.exponent_lo, b.exponent_hi);
+  }
+  if (s0.damping_time) inside("damping_time", *s0.damping_time, b.damping_lo, b.damping_hi);
+}
+
+// The fit's starting point from a checked start: the elastic parameters (and
+// the edge classes, for an edge-class fit) and stage 2's damping_time.
+void take_start(const CalibrationStart& start, bool edge_classes, CalibrationResult& res) {
+  const CalibrationParameters& s0 = start.parameters;
+  res.before.stiffness_scale = s0.stiffness_scale;
+  res.before.repulsion_factor = s0.repulsion_factor;
+  res.before.volume_factor = s0.volume_factor;
+  if (edge_classes && s0.axis_stiffness) {
+    res.before.axis_stiffness = s0.axis_stiffness;
+    res.before.compression_exponent = s0.compression_exponent.value_or(0.0);
+  }
+  if (s0.damping_time) res.damping_start = *s0.damping_time;
+  res.start_file = start.file;
+}
+
 CalibrationParameters elastic_parameters(const Eigen::VectorXd& q, const CalibrationBounds& b,
                                          std::optional<double> damping_time) {
   CalibrationParameters p{logistic(q[0], b.scale_lo, b.scale_hi), logistic(q[1], b.repulsion_lo, b.repulsion_hi),
@@ -249,8 +287,10 @@ CalibrationResult calibrate(const std::string& material, const std::vector<std::
                             const std::string& out_dir, const CalibrationBounds& bounds,
                             const std::function<void(const std::string&)>& log, int max_evaluations,
                             double volume_weight, int max_damping_evaluations, bool edge_classes,
-                            const std::vector<std::string>& check_specs) {
+                            const std::vector<std::string>& check_specs,
+                            const std::optional<CalibrationStart>& start) {
   if (!(volume_weight >= 0.0)) throw msd::Error("calibration: the volume weight must be >= 0");
+  if (start) check_start(*start, bounds, edge_classes);  // before any FEM run
   {  // the material first: an unknown name is the user's, not a shipped spec's
     const YAML::Node lib = load_yaml_file(TISSUEBENCH_MATERIALS_FILE, "materials file");
     if (!lib[material]) {
@@ -325,6 +365,8 @@ CalibrationResult calibrate(const std::string& material, const std::vector<std::
     res.before.axis_stiffness = 0.5;
     res.before.compression_exponent = 1.0;
   }
+  res.damping_start = res.before.damping_time.value_or(0.0);
+  if (start) take_start(*start, edge_classes, res);  // checked above
 
   auto record = [&](const std::vector<TargetError>& err, bool after) {
     for (const TargetError& t : err) {
@@ -361,7 +403,7 @@ CalibrationResult calibrate(const std::string& material, const std::vector<std::
     if (log) log("stage 2: the dampers' time constant on the ring-down specs");
     const CalibrationParameters elastic = res.after;
     Eigen::VectorXd qd(1);
-    qd << inverse_logistic(*tau0, bounds.damping_lo, bounds.damping_hi);
+    qd << inverse_logistic(res.damping_start, bounds.damping_lo, bounds.damping_hi);
     Fit dfit{ring_downs,
              [&bounds, elastic](const Eigen::VectorXd& x) {
                CalibrationParameters p = elastic;
@@ -449,9 +491,11 @@ void write_calibration(const CalibrationResult& r, const std::string& path) {
     else
       out << "material_damping_time: " << tau0
           << "   # s, not fitted (no ring-down spec): the MSD keeps the material's\n";
-    out << "starting_parameters:\n  stiffness_scale: " << r.before.stiffness_scale << "\n  repulsion_factor: "
-        << r.before.repulsion_factor << "\n  volume_factor: " << r.before.volume_factor << "\n  damping_time: " << tau0
-        << "\n";
+    out << "starting_parameters:";
+    if (!r.start_file.empty()) out << "   # from " << r.start_file << " (calibrate --start)";
+    out << "\n  stiffness_scale: " << r.before.stiffness_scale << "\n  repulsion_factor: "
+        << r.before.repulsion_factor << "\n  volume_factor: " << r.before.volume_factor
+        << "\n  damping_time: " << r.damping_start << "   # stage 2's start (stage 1 runs with the material's)\n";
     if (r.before.axis_stiffness)
       out << "  axis_stiffness: " << *r.before.axis_stiffness << "\n  compression_exponent: "
           << r.before.compression_exponent.value_or(0.0) << "\n";

@@ -222,7 +222,8 @@ SuiteTier load_tier(const std::string& path) {
     t.benchmarks.push_back({b.text("spec"), edit_text(b)});
   });
   items("sweeps", [&](const Fields& s) {
-    s.only({"spec", "spacing", "dt", "integrators", "terms", "thresholds", "fem_levels", "point_timeout", "quasi_static"});
+    s.only({"spec", "spacing", "dt", "integrators", "terms", "thresholds", "fem_levels", "point_timeout", "quasi_static",
+            "cvode"});
     SuiteTier::Sweep w;
     w.spec = s.text("spec");
     if (s.has("spacing")) w.spacing = s.number_list("spacing");
@@ -236,10 +237,13 @@ SuiteTier load_tier(const std::string& path) {
       w.fem_levels.emplace_back(std::stoul(l.substr(0, colon)), std::stoul(l.substr(colon + 1)));
     }
     w.point_timeout = s.number_or("point_timeout", 0.0);
-    const std::string statics = s.text_or("quasi_static", "false");
-    if (statics != "true" && statics != "false")
-      throw msd::Error(s.where("quasi_static") + "is true or false (got '" + statics + "')");
-    w.quasi_static = statics == "true";
+    const auto flag = [&](const char* key, bool fallback) {
+      const std::string v = s.text_or(key, fallback ? "true" : "false");
+      if (v != "true" && v != "false") throw msd::Error(s.where(key) + "is true or false (got '" + v + "')");
+      return v == "true";
+    };
+    w.quasi_static = flag("quasi_static", false);
+    w.cvode = flag("cvode", true);
     t.sweeps.push_back(w);
   });
   items("stability", [&](const Fields& s) {
@@ -486,6 +490,7 @@ tbio::Json run_sweeps(const SuiteTier& tier, const std::vector<Spec>& specs, con
     g.thresholds = w.thresholds;
     g.fem_levels = w.fem_levels;
     g.quasi_static = w.quasi_static;
+    g.cvode = w.cvode;
     SweepOptions so;
     so.out_dir = (dir / "sweep").string();
     so.executable = o.executable;

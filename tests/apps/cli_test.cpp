@@ -318,6 +318,22 @@ TEST(Cli, CalibrationErrorsNameTheProblem) {
   const Result a = sh("calibrate --material unobtainium --out " + dir.file("c") + " --quiet");
   EXPECT_EQ(a.code, 2);
   EXPECT_NE(a.output.find("unobtainium"), std::string::npos) << a.output;
+  // A start of another material, and one outside the bounds: named, before any FEM run.
+  std::ofstream(dir.file("start.yaml")) << "material: passive_muscle\nparameters: {stiffness_scale: 1, "
+                                           "repulsion_factor: 0.1, volume_factor: 1}\n";
+  const Result m = sh("calibrate --material non_muscular_tissue --start " + dir.file("start.yaml") + " --out " +
+                      dir.file("c") + " --quiet");
+  EXPECT_EQ(m.code, 2);
+  EXPECT_NE(m.output.find("start.yaml: material: 'passive_muscle' is not --material 'non_muscular_tissue'"),
+            std::string::npos) << m.output;
+  std::ofstream(dir.file("start.yaml")) << "material: passive_muscle\nparameters: {stiffness_scale: 1, "
+                                           "repulsion_factor: 0.1, volume_factor: 25}\n";
+  const Result o = sh("calibrate --material passive_muscle --start " + dir.file("start.yaml") + " --out " +
+                      dir.file("c") + " --quiet");
+  EXPECT_EQ(o.code, 2);
+  EXPECT_NE(o.output.find("start.yaml: parameters.volume_factor = 25 is not strictly inside"), std::string::npos)
+      << o.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("c/passive_muscle.yaml")));
   std::ofstream(dir.file("c.yaml")) << "material: passive_muscle\nparameters: {stiffness_scale: 1, "
                                        "repulsion_factor: 0, volume_factor: 1}\n";
   const std::string spec = replaced(kSpec, "material: {density: 1000, youngs_modulus: 5000, damping_time: 0.002}",

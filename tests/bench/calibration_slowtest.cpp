@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iterator>
 
 namespace {
 
@@ -76,6 +77,24 @@ TEST(CalibrationLoop, LowersTheObjectiveAndWritesAReadableFile) {
   int reused = 0;
   for (const auto& l : lines) reused += l.find("reused") != std::string::npos;
   EXPECT_EQ(reused, 2);
+  // A fit started from the written file begins where the first one ended:
+  // its starting point is the file's set, and its first objective is the
+  // first fit's last (the same constants on the same specs).
+  const bench::CalibrationResult w =
+      bench::calibrate("passive_muscle", {dir.file("u.yaml"), dir.file("s.yaml")}, dir.file("out"), {}, {}, 4, 2.0,
+                       20, false, {}, bench::CalibrationStart{p, dir.file("out/passive_muscle.yaml")});
+  EXPECT_DOUBLE_EQ(w.before.stiffness_scale, r.after.stiffness_scale);
+  EXPECT_DOUBLE_EQ(w.before.volume_factor, r.after.volume_factor);
+  EXPECT_NEAR(w.objective_before, r.objective_after, 1e-9 * r.objective_after);
+  // Started at an optimum, the fit stays there (the optimiser's last
+  // accepted point may differ from its start in the last digits).
+  EXPECT_NEAR(w.objective_after, w.objective_before, 1e-6 * w.objective_before);
+  EXPECT_EQ(w.start_file, dir.file("out/passive_muscle.yaml"));
+  bench::write_calibration(w, dir.file("warm.yaml"));
+  std::ifstream in(dir.file("warm.yaml"));
+  const std::string warm((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(warm.find("starting_parameters:   # from " + dir.file("out/passive_muscle.yaml")),
+            std::string::npos) << warm;
 }
 
 TEST(CalibrationLoop, UnknownMaterialAndWrongLoadingAreErrors) {

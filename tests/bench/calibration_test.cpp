@@ -142,6 +142,39 @@ TEST(Calibration, MisfitsAreClearErrors) {
                msd::Error);
 }
 
+TEST(Calibration, AStartOutsideTheBoundsOrWithUnaskedEdgeClassesIsRefusedBeforeAnyRun) {
+  // The specs do not exist: the start is checked first, so the message is the start's.
+  const auto error_of = [](const bench::CalibrationParameters& p, bool edge_classes) {
+    try {
+      bench::calibrate("non_muscular_tissue", {"/nonexistent/u.yaml"}, "/nonexistent/out", {}, {}, 4, 2.0, 2,
+                       edge_classes, {}, bench::CalibrationStart{p, "start.yaml"});
+    } catch (const msd::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  bench::CalibrationParameters p{1.0, 0.1, 1.0, std::nullopt, std::nullopt, std::nullopt};
+  p.volume_factor = 20.0;  // on the bound: the logistic variable would be infinite
+  EXPECT_NE(error_of(p, false).find("start.yaml: parameters.volume_factor = 20 is not strictly inside calibrate's "
+                                    "bounds (0, 20)"),
+            std::string::npos) << error_of(p, false);
+  p.volume_factor = 1.0;
+  p.damping_time = 0.05;
+  EXPECT_NE(error_of(p, false).find("start.yaml: parameters.damping_time = 0.05"), std::string::npos)
+      << error_of(p, false);
+  p.damping_time.reset();
+  p.axis_stiffness = 0.3;
+  p.compression_exponent = 2.0;
+  EXPECT_NE(error_of(p, false).find("start.yaml: parameters.axis_stiffness: a start with edge classes needs "
+                                    "--edge-classes"),
+            std::string::npos) << error_of(p, false);
+  p.compression_exponent = 4.5;
+  EXPECT_NE(error_of(p, true).find("parameters.compression_exponent = 4.5"), std::string::npos) << error_of(p, true);
+  // A valid start passes the check and the fit goes on to the (missing) spec.
+  p.compression_exponent = 2.0;
+  EXPECT_NE(error_of(p, true).find("/nonexistent/u.yaml"), std::string::npos) << error_of(p, true);
+}
+
 TEST(Calibration, AFittedDampingTimeRoundTripsAndReachesTheMsdOnly) {
   testing_support::TempDir dir("cal");
   bench::CalibrationResult r = result();

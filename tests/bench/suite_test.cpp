@@ -51,6 +51,18 @@ TEST(Suite, ShippedTiersLoadAndNameTheirSpecs) {
   }
 }
 
+TEST(Suite, ASweepMayLeaveOutItsCvodePoints) {
+  testing_support::TempDir d("suite");
+  std::ofstream(d.file("t.yaml")) << "tier: x\nbenchmarks: [{spec: s.yaml}]\n"
+                                     "sweeps: [{spec: s.yaml}, {spec: s.yaml, cvode: false, quasi_static: true}]\n";
+  const bench::SuiteTier t = bench::load_tier(d.file("t.yaml"));
+  ASSERT_EQ(t.sweeps.size(), 2u);
+  EXPECT_TRUE(t.sweeps[0].cvode);  // the default: time errors need the CVODE point
+  EXPECT_FALSE(t.sweeps[0].quasi_static);
+  EXPECT_FALSE(t.sweeps[1].cvode);
+  EXPECT_TRUE(t.sweeps[1].quasi_static);
+}
+
 TEST(Suite, BadTierFilesAreNamed) {
   testing_support::TempDir d("suite");
   std::ofstream(d.file("a.yaml")) << "tier: x\nbenchmarks: [{spec: s.yaml, spce: 2}]\n";
@@ -60,6 +72,9 @@ TEST(Suite, BadTierFilesAreNamed) {
   EXPECT_NE(error_of(d.file("b.yaml")).find("unknown variant 'fancy'"), std::string::npos);
   std::ofstream(d.file("c.yaml")) << "tier: x\n";
   EXPECT_NE(error_of(d.file("c.yaml")).find("lists no benchmarks"), std::string::npos);
+  std::ofstream(d.file("d.yaml")) << "tier: x\nbenchmarks: [{spec: s.yaml}]\nsweeps: [{spec: s.yaml, cvode: maybe}]\n";
+  EXPECT_NE(error_of(d.file("d.yaml")).find("sweeps[0].cvode: is true or false (got 'maybe')"), std::string::npos)
+      << error_of(d.file("d.yaml"));
   EXPECT_NE(error_of(d.file("none.yaml")).find("cannot read"), std::string::npos);
 }
 

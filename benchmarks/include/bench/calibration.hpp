@@ -69,6 +69,15 @@ struct CalibrationBounds {
   double exponent_lo = 0.0, exponent_hi = 4.0; ///< the spring law's compression exponent
 };
 
+/// Where a fit starts instead of the spec's constants (calibrate --start): a
+/// calibration file's parameters. The elastic ones start stage 1 (which keeps
+/// the material's damping_time, as a fit from the spec's constants does); its
+/// damping_time, when it has one, starts stage 2.
+struct CalibrationStart {
+  CalibrationParameters parameters;
+  std::string file;  ///< named in messages and in the written file
+};
+
 struct SpecError {
   std::string spec, sha256;
   std::string load_series;  ///< the fitted series; "damping_ratio" for a ring-down spec
@@ -97,6 +106,8 @@ struct CalibrationResult {
   /// The specs the fitted set was run on after the fit (check_specs): every
   /// one completed without a blow-up or an inverted element.
   std::vector<std::string> checked_on;
+  std::string start_file;     ///< the calibration file the fit started from (empty: the spec's constants)
+  double damping_start = 0.0; ///< s, stage 2's starting damping_time
   std::string fem_version, fem_git_revision, created;
 };
 
@@ -111,13 +122,16 @@ std::map<std::string, std::vector<double>> simulate_msd(const Spec& spec);
 /// uniaxial and simple_shear specs in stage 1 (at most max_evaluations MSD
 /// runs of the set), vibration specs in stage 2 (at most
 /// max_damping_evaluations). FEM references are written to out_dir. `log`
-/// receives one line per evaluation.
+/// receives one line per evaluation. `start`: begin at a calibration file's
+/// parameters (each strictly inside `bounds`, else msd::Error naming the file
+/// and the parameter; edge classes in it need edge_classes).
 CalibrationResult calibrate(const std::string& material, const std::vector<std::string>& spec_files,
                             const std::string& out_dir, const CalibrationBounds& bounds = {},
                             const std::function<void(const std::string&)>& log = {},
                             int max_evaluations = 40, double volume_weight = 2.0,
                             int max_damping_evaluations = 20, bool edge_classes = false,
-                            const std::vector<std::string>& check_specs = {});
+                            const std::vector<std::string>& check_specs = {},
+                            const std::optional<CalibrationStart>& start = std::nullopt);
 
 /// The shipped comparison specs (uniaxial, shear, bending, bending_gravity,
 /// vibration, indentation in benchmarks/specs): a calibration's default

@@ -47,6 +47,7 @@ struct SuiteTier {
     std::vector<std::pair<unsigned, unsigned>> fem_levels;
     double point_timeout = 0.0;
     bool quasi_static = false;  ///< SweepGrid::quasi_static
+    bool cvode = true;          ///< SweepGrid::cvode (false: no CVODE points, no time errors)
   };
   std::vector<Sweep> sweeps;
   struct Stability {
