@@ -5,6 +5,7 @@
 #include "bench/fem_runner.hpp"
 #include "bench/msd_runner.hpp"
 #include "bench/shared_io.hpp"
+#include "msd/integrate/step.hpp"
 #include "msd/io/atomic_file.hpp"
 #include "msd/io/input_file.hpp"
 
@@ -216,6 +217,33 @@ Eigen::VectorXd elastic_variables(const CalibrationParameters& p, const Calibrat
     q.tail(2) << inverse_logistic(*p.axis_stiffness, b.axis_lo, b.axis_hi),
         inverse_logistic(p.compression_exponent.value_or(0.0), b.exponent_lo, b.exponent_hi);
   return q;
+}
+
+// Young's modulus of a spec's material (0 when it gives none).
+double youngs_modulus(const MaterialSpec& m) {
+  if (m.youngs_modulus) return *m.youngs_modulus;
+  if (m.shear_modulus && m.bulk_modulus)
+    return 9.0 * *m.bulk_modulus * *m.shear_modulus / (3.0 * *m.bulk_modulus + *m.shear_modulus);
+  return 0.0;
+}
+
+// What a check run's explicit step is multiplied by when the check replaces
+// the spec's own material: the explicit step's two limits scale with the
+// material - the wave limit h / c with 1 / sqrt(E / rho), the dampers' limit
+// (k_d = damping_time x k) with rho / (damping_time E) - so the step keeps
+// the spec's margin under both: the smaller of the two ratios when below 1,
+// else 1 (implicit steps, CVODE, a softer material: the shipped step stands).
+double explicit_step_shrink(const Spec& own, const Spec& replaced) {
+  if (!replaced.msd || replaced.msd->integrator == "cvode" ||
+      msd::is_implicit(msd::parse_integrator(replaced.msd->integrator)))
+    return 1.0;
+  const MaterialSpec &a = own.material, &b = replaced.material;
+  const double ea = youngs_modulus(a), eb = youngs_modulus(b);
+  if (!(ea > 0.0 && eb > 0.0 && a.density > 0.0 && b.density > 0.0)) return 1.0;
+  double shrink = std::min(1.0, std::sqrt((ea / a.density) / (eb / b.density)));
+  const double ta = a.damping_time.value_or(0.0), tb = b.damping_time.value_or(0.0);
+  if (ta > 0.0 && tb > 0.0) shrink = std::min(shrink, (ta * ea / a.density) / (tb * eb / b.density));
+  return shrink;
 }
 
 // A fit's start (calibrate --start) must lie strictly inside the bounds: the
@@ -443,9 +471,23 @@ std::vector<std::string> check_fitted_set(const std::string& material, const Cal
                                           const std::function<void(const std::string&)>& log) {
   std::vector<std::string> names;
   for (const auto& file : spec_files) {
-    const std::string text = std::regex_replace(msd::read_input_file(file, "check spec"),
-                                                std::regex("library: *[A-Za-z_]+"), "library: " + material);
+    const std::string own = msd::read_input_file(file, "check spec");
+    const std::string text = std::regex_replace(own, std::regex("library: *[A-Za-z_]+"), "library: " + material);
     Spec spec = with_parameters(parse_spec(text, file), p);
+    const double shrink = explicit_step_shrink(parse_spec(own, file), spec);
+    if (shrink < 1.0) {
+      // An explicit step keeps the spec's margin: the shipped step was
+      // chosen for the spec's own material, and a stiffer one (passive muscle
+      // on the indentation: 5x E, the dampers' limit 0.23x) blows up at it
+      // with its physical constants already. Whole steps per output interval.
+      const double interval = spec.output.interval;
+      const double dt = interval / std::ceil(interval / (spec.msd->dt * shrink) - 1e-9);
+      if (log)
+        log("check: " + spec.name + " with " + material + ": explicit step " + json_number(spec.msd->dt, 4) +
+            " s -> " + json_number(dt, 4) + " s (the material's stable step is " + json_number(shrink, 3) +
+            " times the spec's own material's)");
+      spec.msd->dt = dt;
+    }
     // Implicit paths with exact Newton (the converged steps are the same): a
     // fitted volume term several times the shipped one makes Newton's matrix
     // far from symmetric, and Newton on its symmetric part alone crawls (the

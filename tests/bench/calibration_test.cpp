@@ -272,3 +272,35 @@ TEST(Calibration, AFittedSetIsRunOnTheCheckSpecsAndRefusedWhenItBlowsUp) {
   // The default list is the six shipped comparison specs.
   EXPECT_EQ(bench::shipped_benchmark_specs().size(), 6u);
 }
+
+TEST(Calibration, TheCheckRunsAnExplicitSpecOfASofterMaterialAtTheStepItsMarginGivesTheStifferOne) {
+  // The shipped indentation: non-muscular tissue with explicit steps of 1e-4 s.
+  // Passive muscle (E 14950 Pa against 2990, rho 1040 against 920, the same
+  // damping_time) blows up there with its physical constants (at t = 1.6 ms);
+  // the check runs it at the step the dampers' limit scales to,
+  // 1e-4 x (2990 / 920) / (14950 / 1040) = 2.26e-5 s (the wave limit alone
+  // would give 4.75e-5 s, where it still blows up).
+  testing_support::TempDir dir("cal");
+  std::string spec = kSpec;  // non-muscular tissue, explicit, 1e-4 s, output every 0.02 s
+  std::ofstream(dir.file("small.yaml")) << spec;
+  std::vector<std::string> lines;
+  const bench::CalibrationParameters physical{1.0, 0.1, 1.0, std::nullopt, std::nullopt, std::nullopt};
+  bench::check_fitted_set("passive_muscle", physical, {dir.file("small.yaml")},
+                          [&](const std::string& l) { lines.push_back(l); });
+  bool shrunk = false;
+  for (const auto& l : lines)
+    shrunk = shrunk || l.find("explicit step 0.0001 s -> 2.26e-05 s (the material's stable step is 0.226") !=
+                           std::string::npos;
+  EXPECT_TRUE(shrunk) << (lines.empty() ? "no log" : lines.front());
+  // Its own material, or an implicit spec: the shipped step stands.
+  lines.clear();
+  bench::check_fitted_set("non_muscular_tissue", physical, {dir.file("small.yaml")},
+                          [&](const std::string& l) { lines.push_back(l); });
+  for (const auto& l : lines) EXPECT_EQ(l.find("explicit step"), std::string::npos) << l;
+  spec.replace(spec.find("dt: 1.0e-4"), 10, "integrator: backward_euler, dt: 1.0e-2");
+  std::ofstream(dir.file("implicit.yaml")) << spec;
+  lines.clear();
+  bench::check_fitted_set("passive_muscle", physical, {dir.file("implicit.yaml")},
+                          [&](const std::string& l) { lines.push_back(l); });
+  for (const auto& l : lines) EXPECT_EQ(l.find("explicit step"), std::string::npos) << l;
+}
