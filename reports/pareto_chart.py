@@ -19,6 +19,7 @@ the vertical line at its cost.
 """
 import json
 import sys
+import textwrap
 
 import matplotlib
 
@@ -30,8 +31,8 @@ TERM_MARKERS = (("all", "o", "thesis element (all terms)"), ("springs_dampers", 
                 ("no_repulsion", "^", "no repulsion"), ("no_volume", "v", "no volume term"),
                 ("continuum", "P", "continuum element"), ("neo_lattice", "*", "neo-Hookean lattice"))
 # One colour per integrator family (dt is in the labels).
-INTEGRATOR_COLOURS = {"symplectic_euler": "tab:blue", "velocity_verlet": "tab:cyan", "explicit_euler": "tab:gray",
-                      "backward_euler": "tab:orange", "bdf2": "tab:red", "quasi_static": "tab:green",
+INTEGRATOR_COLOURS = {"symplectic_euler": "tab:blue", "velocity_verlet": "tab:orange", "explicit_euler": "tab:gray",
+                      "backward_euler": "tab:brown", "bdf2": "tab:red", "quasi_static": "tab:green",
                       "cvode": "k"}
 
 
@@ -80,7 +81,7 @@ def sweep_figure(s, title=None):
     ax.set_yscale("log")
     ax.set_xlabel("cost (wall s per simulated s)")
     ax.set_ylabel("load-curve error against the FEM reference (%)")
-    ax.set_title(title or "speed–accuracy: %s" % s["spec"])
+    ax.set_title(textwrap.fill(title or "speed–accuracy: %s" % s["spec"], 60), fontsize=9)
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     fig.tight_layout()
