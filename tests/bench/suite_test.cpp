@@ -28,10 +28,13 @@ TEST(Suite, ShippedTiersLoadAndNameTheirSpecs) {
     const bench::SuiteTier t = bench::load_tier(std::string(TISSUEBENCH_SUITES_DIR) + "/" + tier + ".yaml");
     EXPECT_EQ(t.name, tier);
     // The quick tier (CI's) runs the neo-Hookean lattice as its lattice rung;
-    // the full one runs both lattice rungs for the whole ladder.
-    const std::vector<std::string> ladder{"thesis", "physical", "calibrated", "continuum"};
-    std::vector<std::string> expected = ladder;
-    if (std::string(tier) == "full") expected.push_back("physical_lattice");
+    // the full one runs every lattice rung (the calibrated, the physical and
+    // the neo-Hookean) for the whole ladder.
+    const bool full = std::string(tier) == "full";
+    std::vector<std::string> expected{"thesis", "physical", "calibrated"};
+    if (full) expected.push_back("lattice");
+    expected.push_back("continuum");
+    if (full) expected.push_back("physical_lattice");
     expected.push_back("neo_lattice");
     EXPECT_EQ(t.variants, expected);
     EXPECT_GE(t.benchmarks.size(), 5u);
@@ -109,14 +112,18 @@ TEST(Suite, VariantsSetTheThesisConstantsOrTheMaterialsCalibration) {
   EXPECT_EQ(bench::suite_variant(spec, "physical", cal).text, spec.text);
   EXPECT_THROW(bench::suite_variant(spec, "tuned", cal), msd::Error);
   // The calibrated lattice: the fit with the edge classes, from MATERIAL_lattice.yaml
-  // (none shipped yet: one written here as calibrate --edge-classes writes it).
+  // (shipped for both materials; here one written as calibrate --edge-classes writes it).
+  const bench::Spec shipped_lattice = bench::suite_variant(spec, "lattice", cal);
+  EXPECT_NE(shipped_lattice.msd->calibration.find("passive_muscle_lattice.yaml"), std::string::npos);
+  ASSERT_FALSE(shipped_lattice.msd->edge_laws.empty());
+  testing_support::TempDir empty_dir("no_lattice");
+  EXPECT_THROW(bench::suite_variant(spec, "lattice", empty_dir.path().string()), msd::Error);  // none there: named
   testing_support::TempDir lattice_dir("lattice");
   bench::CalibrationResult fitted;
   fitted.material = "passive_muscle";
   fitted.before = {1.0, 0.1, 1.0, 4.2e-3, 0.5, 1.0};
   fitted.after = {1.08, 0.03, 10.0, 5.1e-3, 0.26, 1.96};
   bench::write_calibration(fitted, lattice_dir.file("passive_muscle_lattice.yaml"));
-  EXPECT_THROW(bench::suite_variant(spec, "lattice", cal), msd::Error);  // no MATERIAL_lattice.yaml: named
   const bench::Spec lattice = bench::suite_variant(spec, "lattice", lattice_dir.path().string());
   EXPECT_NE(lattice.msd->calibration.find("passive_muscle_lattice.yaml"), std::string::npos);
   EXPECT_DOUBLE_EQ(lattice.msd->edge_laws[0].stiffness, 0.26);
