@@ -185,11 +185,8 @@ int cmd_calibrate(const CalibrateArgs& args) {
   };
   std::optional<bench::CalibrationStart> start;
   if (!args.start.empty()) {
-    std::string material;
-    start = bench::CalibrationStart{bench::read_calibration(args.start, &material), args.start};
-    if (material != args.material)
-      throw msd::Error(args.start + ": material: '" + material + "' is not --material '" + args.material +
-                       "' (a fit starts from a calibration of the same material)");
+    start = bench::CalibrationStart{{}, args.start, ""};
+    start->parameters = bench::read_calibration(args.start, &start->material);
   }
   const bench::CalibrationResult r = bench::calibrate(args.material, specs, args.out, {}, log,
                                                       args.max_evaluations, args.volume_weight,

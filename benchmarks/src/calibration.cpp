@@ -249,7 +249,11 @@ double explicit_step_shrink(const Spec& own, const Spec& replaced) {
 // A fit's start (calibrate --start) must lie strictly inside the bounds: the
 // optimiser's variables are logistic transforms of the parameters, infinite
 // on a bound. Edge classes in the file need an edge-class fit.
-void check_start(const CalibrationStart& start, const CalibrationBounds& b, bool edge_classes) {
+void check_start(const CalibrationStart& start, const std::string& material, const CalibrationBounds& b,
+                 bool edge_classes) {
+  if (start.material != material)
+    throw msd::Error(start.file + ": material: '" + start.material + "' is not the fit's '" + material +
+                     "' (a fit starts from a calibration of the same material)");
   const CalibrationParameters& s0 = start.parameters;
   const auto inside = [&](const char* name, double v, double lo, double hi) {
     if (!(v > lo && v < hi))
@@ -318,7 +322,7 @@ CalibrationResult calibrate(const std::string& material, const std::vector<std::
                             const std::vector<std::string>& check_specs,
                             const std::optional<CalibrationStart>& start) {
   if (!(volume_weight >= 0.0)) throw msd::Error("calibration: the volume weight must be >= 0");
-  if (start) check_start(*start, bounds, edge_classes);  // before any FEM run
+  if (start) check_start(*start, material, bounds, edge_classes);  // before any FEM run
   {  // the material first: an unknown name is the user's, not a shipped spec's
     const YAML::Node lib = load_yaml_file(TISSUEBENCH_MATERIALS_FILE, "materials file");
     if (!lib[material]) {
@@ -441,8 +445,8 @@ CalibrationResult calibrate(const std::string& material, const std::vector<std::
              static_cast<int>(ring_downs.size()), &res.damping_evaluations, max_damping_evaluations, log, {}, {}};
     const Minimum m2 = minimise(dfit, qd, max_damping_evaluations);
     if (dfit.first_objective < 0.0)
-      throw msd::Error("calibration: the stage-1 constants with the material's damping_time are unstable on the "
-                       "ring-down spec");
+      throw msd::Error("calibration: the stage-1 constants with stage 2's starting damping_time " +
+                       json_number(res.damping_start) + " s are unstable on the ring-down spec");
     res.damping_status = m2.status;
     res.damping_iterations = m2.iterations;
     res.damping_objective_before = dfit.first_objective;
@@ -550,7 +554,8 @@ void write_calibration(const CalibrationResult& r, const std::string& path) {
       out << "damping_stage: {objective_before: " << r.damping_objective_before
           << ", objective_after: " << r.damping_objective_after << ", status: \"" << r.damping_status
           << "\", iterations: " << r.damping_iterations << ", evaluations: " << r.damping_evaluations << "}\n";
-    out << "specs:   # errors before (the starting constants) and after (the calibrated set)\n";
+    out << "specs:   # errors before (the starting constants with the material's damping_time) and after (the "
+           "calibrated set)\n";
     for (const auto& s : r.specs) {
       out << "  - {name: " << s.spec << ", sha256: " << s.sha256 << ", series: " << s.load_series
           << ", rel_rms_before: " << s.rel_rms_before << ", rel_rms_after: " << s.rel_rms_after

@@ -324,7 +324,7 @@ TEST(Cli, CalibrationErrorsNameTheProblem) {
   const Result m = sh("calibrate --material non_muscular_tissue --start " + dir.file("start.yaml") + " --out " +
                       dir.file("c") + " --quiet");
   EXPECT_EQ(m.code, 2);
-  EXPECT_NE(m.output.find("start.yaml: material: 'passive_muscle' is not --material 'non_muscular_tissue'"),
+  EXPECT_NE(m.output.find("start.yaml: material: 'passive_muscle' is not the fit's 'non_muscular_tissue'"),
             std::string::npos) << m.output;
   std::ofstream(dir.file("start.yaml")) << "material: passive_muscle\nparameters: {stiffness_scale: 1, "
                                            "repulsion_factor: 0.1, volume_factor: 25}\n";

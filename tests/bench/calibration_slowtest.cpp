@@ -82,13 +82,13 @@ TEST(CalibrationLoop, LowersTheObjectiveAndWritesAReadableFile) {
   // first fit's last (the same constants on the same specs).
   const bench::CalibrationResult w =
       bench::calibrate("passive_muscle", {dir.file("u.yaml"), dir.file("s.yaml")}, dir.file("out"), {}, {}, 4, 2.0,
-                       20, false, {}, bench::CalibrationStart{p, dir.file("out/passive_muscle.yaml")});
+                       20, false, {}, bench::CalibrationStart{p, dir.file("out/passive_muscle.yaml"), material});
   EXPECT_DOUBLE_EQ(w.before.stiffness_scale, r.after.stiffness_scale);
   EXPECT_DOUBLE_EQ(w.before.volume_factor, r.after.volume_factor);
   EXPECT_NEAR(w.objective_before, r.objective_after, 1e-9 * r.objective_after);
-  // Started at an optimum, the fit stays there (the optimiser's last
-  // accepted point may differ from its start in the last digits).
-  EXPECT_NEAR(w.objective_after, w.objective_before, 1e-6 * w.objective_before);
+  // The optimiser never ends above where it started (its last accepted
+  // point may differ from its start in the last digits).
+  EXPECT_LE(w.objective_after, w.objective_before * (1.0 + 1e-6));
   EXPECT_EQ(w.start_file, dir.file("out/passive_muscle.yaml"));
   bench::write_calibration(w, dir.file("warm.yaml"));
   std::ifstream in(dir.file("warm.yaml"));

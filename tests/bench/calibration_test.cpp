@@ -42,13 +42,14 @@ bench::CalibrationResult result() {
 
 }  // namespace
 
-TEST(Calibration, ShippedFilesWereFittedFromACleanCheckoutAndCheckedOnEveryShippedSpec) {
+TEST(Calibration, ShippedFilesNameACleanReferenceBuildAndWereCheckedOnEveryShippedSpec) {
   // Issue 17 item 2: the calibration files under benchmarks/calibration -
   // the three factors (MATERIAL.yaml) and the edge classes
-  // (MATERIAL_lattice.yaml) for both materials - name a build without
-  // uncommitted changes, and calibrate ran each fitted set on every shipped
-  // comparison spec without a blow-up or an inverted element.
-  const std::string dir = std::string(TISSUEBENCH_SUITES_DIR) + "/../calibration/";
+  // (MATERIAL_lattice.yaml) for both materials - name, as their provenance,
+  // an FEM reference build without uncommitted changes, and calibrate ran
+  // each fitted set on every shipped comparison spec without a blow-up or an
+  // inverted element.
+  const std::string dir = std::string(TISSUEBENCH_CALIBRATION_DIR) + "/";
   for (const char* material : {"non_muscular_tissue", "passive_muscle"})
     for (const char* suffix : {"", "_lattice"}) {
       const std::string file = dir + material + suffix + ".yaml";
@@ -173,10 +174,12 @@ TEST(Calibration, MisfitsAreClearErrors) {
 
 TEST(Calibration, AStartOutsideTheBoundsOrWithUnaskedEdgeClassesIsRefusedBeforeAnyRun) {
   // The specs do not exist: the start is checked first, so the message is the start's.
-  const auto error_of = [](const bench::CalibrationParameters& p, bool edge_classes) {
+  testing_support::TempDir out("cal_start");
+  const auto error_of = [&out](const bench::CalibrationParameters& p, bool edge_classes,
+                               const std::string& material = "non_muscular_tissue") {
     try {
-      bench::calibrate("non_muscular_tissue", {"/nonexistent/u.yaml"}, "/nonexistent/out", {}, {}, 4, 2.0, 2,
-                       edge_classes, {}, bench::CalibrationStart{p, "start.yaml"});
+      bench::calibrate("non_muscular_tissue", {out.file("missing/u.yaml")}, out.file("fit"), {}, {}, 4, 2.0, 2,
+                       edge_classes, {}, bench::CalibrationStart{p, "start.yaml", material});
     } catch (const msd::Error& e) {
       return std::string(e.what());
     }
@@ -199,9 +202,13 @@ TEST(Calibration, AStartOutsideTheBoundsOrWithUnaskedEdgeClassesIsRefusedBeforeA
             std::string::npos) << error_of(p, false);
   p.compression_exponent = 4.5;
   EXPECT_NE(error_of(p, true).find("parameters.compression_exponent = 4.5"), std::string::npos) << error_of(p, true);
-  // A valid start passes the check and the fit goes on to the (missing) spec.
+  // A start of another material.
   p.compression_exponent = 2.0;
-  EXPECT_NE(error_of(p, true).find("/nonexistent/u.yaml"), std::string::npos) << error_of(p, true);
+  EXPECT_NE(error_of(p, true, "passive_muscle").find("start.yaml: material: 'passive_muscle' is not the fit's "
+                                                     "'non_muscular_tissue'"),
+            std::string::npos) << error_of(p, true, "passive_muscle");
+  // A valid start passes the check and the fit goes on to the (missing) spec.
+  EXPECT_NE(error_of(p, true).find("missing/u.yaml"), std::string::npos) << error_of(p, true);
 }
 
 TEST(Calibration, AFittedDampingTimeRoundTripsAndReachesTheMsdOnly) {

@@ -75,7 +75,8 @@ struct CalibrationBounds {
 /// damping_time, when it has one, starts stage 2.
 struct CalibrationStart {
   CalibrationParameters parameters;
-  std::string file;  ///< named in messages and in the written file
+  std::string file;      ///< named in messages and in the written file
+  std::string material;  ///< the file's; must be the fit's
 };
 
 struct SpecError {
@@ -123,8 +124,8 @@ std::map<std::string, std::vector<double>> simulate_msd(const Spec& spec);
 /// runs of the set), vibration specs in stage 2 (at most
 /// max_damping_evaluations). FEM references are written to out_dir. `log`
 /// receives one line per evaluation. `start`: begin at a calibration file's
-/// parameters (each strictly inside `bounds`, else msd::Error naming the file
-/// and the parameter; edge classes in it need edge_classes).
+/// parameters (of the same material, each strictly inside `bounds`, else
+/// msd::Error naming the file and the field; edge classes in it need edge_classes).
 CalibrationResult calibrate(const std::string& material, const std::vector<std::string>& spec_files,
                             const std::string& out_dir, const CalibrationBounds& bounds = {},
                             const std::function<void(const std::string&)>& log = {},
