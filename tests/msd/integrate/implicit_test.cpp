@@ -978,6 +978,41 @@ msd::Model cantilever(double load, unsigned terms = msd::kSprings | msd::kDamper
 
 }  // namespace
 
+TEST(QuasiStatic, AModelWithJointsObstaclesOrSelfContactIsRefusedByNameAndLeftUntouched) {
+  // What the quasi-static step cannot hold: a hinge's motion is dynamic, and
+  // obstacle and self-contact are held through the step's velocities. Each
+  // is refused before the state changes, naming the part and the steps that
+  // can (implicit.hpp, step_quasi_static).
+  const msd::Model base = cantilever(2e-3);
+  for (int k = 0; k < 3; ++k) {
+    msd::Model m = base;
+    std::string expected;
+    if (k == 0) {
+      m.joints.push_back(msd::Joint{});
+      expected = "quasi-static: the model has 1 joints, whose motion is dynamic; use backward_euler or bdf2";
+    } else if (k == 1) {
+      m.obstacles.push_back(msd::RigidObstacle{});
+      expected = "quasi-static: the model has 1 rigid obstacles";
+    } else {
+      m.self_contact = msd::SelfContactRegion{};
+      expected = "quasi-static: the model has self-contact";
+    }
+    msd::State s = msd::rest_state(m);
+    const msd::Points x0 = s.x;
+    msd::Scratch scratch;
+    msd::Controls c = at_rest(m);
+    c.load_scale = 1.0;
+    try {
+      msd::step(m, s, c, 0.25, msd::Integrator::QuasiStatic, scratch);
+      ADD_FAILURE() << k << ": accepted";
+    } catch (const msd::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << k << ": " << e.what();
+    }
+    EXPECT_EQ(s.t, 0.0) << k;
+    EXPECT_TRUE(s.x == x0) << k;
+  }
+}
+
 TEST(QuasiStatic, ANearlyIncompressibleCantileverReachesItsEquilibriumAtEveryLoadStep) {
   // Four load steps to a tip load that bends it visibly. Each step ends in
   // equilibrium - f(x, 0) + load = 0 on the free nodes - at a minimum of the
