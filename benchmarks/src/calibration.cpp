@@ -5,7 +5,6 @@
 #include "bench/fem_runner.hpp"
 #include "bench/msd_runner.hpp"
 #include "bench/shared_io.hpp"
-#include "msd/integrate/step.hpp"
 #include "msd/io/atomic_file.hpp"
 #include "msd/io/input_file.hpp"
 
@@ -234,9 +233,7 @@ double youngs_modulus(const MaterialSpec& m) {
 // the spec's margin under both: the smaller of the two ratios when below 1,
 // else 1 (implicit steps, CVODE, a softer material: the shipped step stands).
 double explicit_step_shrink(const Spec& own, const Spec& replaced) {
-  if (!replaced.msd || replaced.msd->integrator == "cvode" ||
-      msd::is_implicit(msd::parse_integrator(replaced.msd->integrator)))
-    return 1.0;
+  if (!replaced.msd || !has_explicit_step(*replaced.msd)) return 1.0;
   const MaterialSpec &a = own.material, &b = replaced.material;
   const double ea = youngs_modulus(a), eb = youngs_modulus(b);
   if (!(ea > 0.0 && eb > 0.0 && a.density > 0.0 && b.density > 0.0)) return 1.0;

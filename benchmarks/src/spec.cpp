@@ -4,6 +4,7 @@
 
 #include "bench/shared_io.hpp"
 #include "msd/core/types.hpp"
+#include "msd/integrate/step.hpp"
 #include "msd/io/input_file.hpp"
 
 #include <algorithm>
@@ -135,6 +136,20 @@ void parse_edge_classes(const Fields& f, MsdSpec& m) {
   }
 }
 
+}  // namespace
+
+const std::vector<std::string>& newton_fields() {
+  static const std::vector<std::string> fields{"newton_tolerance", "newton_max_iterations", "newton_max_step_cuts",
+                                               "newton_reuse_factorization", "newton_linear_solver"};
+  return fields;
+}
+
+bool has_explicit_step(const MsdSpec& msd) {
+  return msd.integrator != "cvode" && !msd::is_implicit(msd::parse_integrator(msd.integrator));
+}
+
+namespace {
+
 MsdSpec parse_msd(const Fields& f) {
   f.only({"constants", "k_s", "k_d", "k_r", "k_v", "stiffness_scale", "repulsion_factor",
           "volume_factor", "damping_time", "repulsion_floor", "mass_lumping", "terms", "nonlinear_threshold",
@@ -215,15 +230,14 @@ MsdSpec parse_msd(const Fields& f) {
       if (f.has(k)) throw msd::Error(f.where(k) + "only meaningful with 'integrator: cvode'");
     m.dt = number(f, "msd.dt");
   }
-  if (m.integrator == "backward_euler" || m.integrator == "bdf2" || m.integrator == "quasi_static") {
+  if (m.integrator != "cvode" && msd::is_implicit(msd::parse_integrator(m.integrator))) {
     m.newton_tolerance = number(f, "msd.newton_tolerance");
     m.newton_max_iterations = static_cast<int>(integer(f, "msd.newton_max_iterations"));
     m.newton_max_step_cuts = static_cast<int>(integer(f, "msd.newton_max_step_cuts"));
     m.newton_reuse_factorization = tbio::read_flag(f, spec_parameter("msd.newton_reuse_factorization"));
     m.newton_linear_solver = choice(f, "msd.newton_linear_solver");
   } else {
-    for (const char* k : {"newton_tolerance", "newton_max_iterations", "newton_max_step_cuts", "newton_reuse_factorization",
-                          "newton_linear_solver"})
+    for (const std::string& k : newton_fields())
       if (f.has(k)) throw msd::Error(f.where(k) + "only meaningful with 'integrator: backward_euler', 'bdf2' or 'quasi_static'");
   }
   return m;

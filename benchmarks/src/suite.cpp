@@ -90,8 +90,7 @@ Spec suite_variant(const Spec& spec, const std::string& variant, const std::stri
     // The thesis' explicit Euler at the spec's step - or, where the spec's
     // integrator chooses its own steps or takes implicit ones far beyond any
     // explicit limit, at 1/100 of the output interval.
-    const bool explicit_step = spec.msd->integrator != "cvode" && !msd::is_implicit(msd::parse_integrator(spec.msd->integrator));
-    const double dt = explicit_step ? spec.msd->dt : spec.output.interval / 100.0;
+    const double dt = has_explicit_step(*spec.msd) ? spec.msd->dt : spec.output.interval / 100.0;
     return spec_variant(spec, [&](YAML::Node& n) {
       YAML::Node m;
       m["constants"] = "raw";

@@ -263,10 +263,8 @@ std::string point_spec_text(const Spec& spec, const SweepPoint& p) {
   set_term_set(m, p.terms);
   // Newton's fields belong to the implicit steps: an explicit or CVODE point
   // of a spec shipped with BDF2 (vibration.yaml) drops them.
-  if (p.integrator != "backward_euler" && p.integrator != "bdf2" && p.integrator != "quasi_static")
-    for (const char* k : {"newton_tolerance", "newton_max_iterations", "newton_max_step_cuts",
-                          "newton_reuse_factorization", "newton_linear_solver"})
-      m.remove(k);
+  if (p.integrator == "cvode" || !msd::is_implicit(msd::parse_integrator(p.integrator)))
+    for (const std::string& k : newton_fields()) m.remove(k);
   if (p.integrator == "quasi_static") {
     // No dampers: the solve has no rate, and the sampled stress would add
     // them at the step's mean rate. Newton on the symmetric part is exact

@@ -166,6 +166,14 @@ Spec load_spec(const std::string& path);
 /// Parses spec text; `source` names it in messages and resolves relative paths.
 Spec parse_spec(const std::string& text, const std::string& source);
 
+/// The msd fields of Newton's method, meaningful only with an implicit
+/// integrator (backward_euler, bdf2, quasi_static; msd::is_implicit).
+const std::vector<std::string>& newton_fields();
+
+/// Whether the msd section steps with a fixed explicit step (not CVODE's own
+/// steps, not an implicit integrator's).
+bool has_explicit_step(const MsdSpec& msd);
+
 /// Load factor of a vibration preload (loading.initial: preload) as way-points
 /// (time s, factor): 0 -> 1 over the first half of [0, release] along the
 /// smooth ramp (1 - cos(pi t / T)) / 2 in 16 linear pieces, held to the
