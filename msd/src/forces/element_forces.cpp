@@ -41,14 +41,23 @@ inline bool one_element(const Model& model, size_t t, const Vec3 x[4], const Vec
 
 }  // namespace
 
+bool nonlinear_terms_active(const Element& el, double threshold, const Vec3 x[4]) {
+  const Vec3 e1 = x[1] - x[0], e2 = x[2] - x[0], e3 = x[3] - x[0];
+  const Vec3 m1 = e2.cross(e3), m2 = e3.cross(e1), m3 = e1.cross(e2);
+  const Vec3 m0 = -(m1 + m2 + m3);
+  const double six_v = e1.dot(m1);
+  if (!(six_v > 0.0)) return true;
+  const double s2 = six_v * six_v;
+  const double c0 = threshold * el.rest_height[0], c1 = threshold * el.rest_height[1];
+  const double c2 = threshold * el.rest_height[2], c3 = threshold * el.rest_height[3];
+  return s2 < c0 * c0 * m0.squaredNorm() || s2 < c1 * c1 * m1.squaredNorm() || s2 < c2 * c2 * m2.squaredNorm() ||
+         s2 < c3 * c3 * m3.squaredNorm();
+}
+
 bool add_nonlinear_element_forces(const Model& model, const Element& el, const Vec3 x[4], Vec3 f[4]) {
   const unsigned terms = model.terms;
+  if (model.nonlinear_threshold > 0.0 && !nonlinear_terms_active(el, model.nonlinear_threshold, x)) return false;
   const TetFrame g = tet_frame(x);
-  if (model.nonlinear_threshold > 0.0) {
-    double ratio = g.height[0] / el.rest_height[0];
-    for (int i = 1; i < 4; ++i) ratio = std::min(ratio, g.height[i] / el.rest_height[i]);
-    if (ratio >= model.nonlinear_threshold) return false;
-  }
   // Both terms push along the same face normal with the same equalising
   // weights, so their magnitudes are summed before the forces are applied.
   double mag[4];

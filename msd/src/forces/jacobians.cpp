@@ -1,5 +1,7 @@
 #include "msd/forces/jacobians.hpp"
 
+#include "msd/forces/element_forces.hpp"
+
 #include "msd/forces/face_repulsion.hpp"
 #include "msd/forces/muscle_units.hpp"
 #include "msd/forces/tendon.hpp"
@@ -54,13 +56,9 @@ bool nonlinear_element_jacobian(const Model& model, const Element& el, const Vec
   K.setZero();
   const unsigned terms = model.terms;
   if (!(terms & (kRepulsion | kVolume))) return false;
+  if (model.nonlinear_threshold > 0.0 && !nonlinear_terms_active(el, model.nonlinear_threshold, x)) return false;
   const Frame fr = frame(x);
   const TetFrame& g = fr.g;
-  if (model.nonlinear_threshold > 0.0) {
-    double ratio = g.height[0] / el.rest_height[0];
-    for (int i = 1; i < 4; ++i) ratio = std::min(ratio, g.height[i] / el.rest_height[i]);
-    if (ratio >= model.nonlinear_threshold) return false;
-  }
   const bool rep = terms & kRepulsion, vol = terms & kVolume;
   // Magnitudes and their derivatives with respect to h_i (repulsion) and to
   // 6V and |m_i| (volume), at the current shape.
@@ -154,22 +152,30 @@ bool strand_jacobian(const Points& p, double natural_length, double k_t, Eigen::
   double slope = 0.0;
   const double tension = tendon_tension(length, natural_length, k_t, toe, &slope);
   if (!(tension > 0.0)) return false;
-  // g_i = u_{i-1} - u_i; the curvature blocks of sum |d_s|.
-  Eigen::VectorXd g = Eigen::VectorXd::Zero(3 * m);
+  // The curvature blocks of sum |d_s|.
   for (Eigen::Index s = 0; s + 1 < m; ++s) {
     const Vec3 d = p.col(s + 1) - p.col(s);
     const double len = d.norm();
     if (!(len > 0.0)) continue;  // coincident points: no direction, no force (add_tendon_forces)
     const Vec3 u = d / len;
-    g.segment<3>(3 * s) -= u;
-    g.segment<3>(3 * (s + 1)) += u;
     const Mat3 c = (tension / len) * (Mat3::Identity() - u * u.transpose());
     K.block<3, 3>(3 * s, 3 * s) -= c;
     K.block<3, 3>(3 * (s + 1), 3 * (s + 1)) -= c;
     K.block<3, 3>(3 * s, 3 * (s + 1)) += c;
     K.block<3, 3>(3 * (s + 1), 3 * s) += c;
   }
-  K.noalias() -= slope * g * g.transpose();
+  // -slope g g^T with g_i = dL/dp_i = u_{i-1} - u_i (no allocation: the
+  // IMEX step calls this every step, imex_strands.hpp).
+  auto unit = [&](Eigen::Index s) -> Vec3 {
+    if (s < 0 || s + 1 >= m) return Vec3::Zero();
+    const Vec3 d = p.col(s + 1) - p.col(s);
+    const double len = d.norm();
+    return len > 0.0 ? Vec3(d / len) : Vec3::Zero();
+  };
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const Vec3 gi = slope * (unit(i - 1) - unit(i));
+    for (Eigen::Index j = 0; j < m; ++j) K.block<3, 3>(3 * i, 3 * j) -= gi * (unit(j - 1) - unit(j)).transpose();
+  }
   return true;
 }
 

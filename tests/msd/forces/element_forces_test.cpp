@@ -1,10 +1,14 @@
 #include "msd/forces/element_forces.hpp"
 
+#include "msd/forces/tet_frame.hpp"
 #include "msd/integrate/step.hpp"
 #include "msd/mesh/cubic_grid.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
 
 using msd::Vec3;
 
@@ -69,6 +73,41 @@ TEST(ElementForces, ThresholdSkipsNonlinearTermsInMildlyDeformedElements) {
   EXPECT_EQ(msd::compute_internal_forces(m, x, v, f), m.num_elements());
   // Without a threshold every element runs its non-linear terms.
   EXPECT_EQ(msd::compute_internal_forces(block_model(all, 0.0), m.rest_positions, v, f), m.num_elements());
+}
+
+TEST(ElementForces, TheThresholdTestIsTheMinimumHeightRatioWithoutRootsOrDivisions) {
+  // nonlinear_terms_active against thesis 5.8's definition, min_i h_i / h0_i
+  // < threshold with h_i from tet_frame, on random tets near and across the
+  // threshold, flat and inverted ones included. Only a ratio within rounding
+  // of the threshold may be classed differently.
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> u(0.3, 1.3);
+  const msd::Model m = block_model(msd::kSprings | msd::kRepulsion, 0.7);
+  long below = 0, above = 0, inverted = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const msd::Element& el = m.elements[static_cast<size_t>(trial) % m.elements.size()];
+    Vec3 x[4];
+    for (int i = 0; i < 4; ++i) x[i] = m.rest_positions.col(el.nodes[static_cast<size_t>(i)]);
+    // Squash along a random axis by a random factor, then jitter.
+    const Vec3 axis = Vec3(u(rng) - 0.8, u(rng) - 0.8, u(rng) - 0.8).normalized();
+    const double squash = (trial % 7 == 0) ? -0.2 : u(rng) - 0.3;  // some pushed through
+    for (int i = 0; i < 4; ++i) {
+      x[i] += (squash - 1.0) * axis.dot(x[i]) * axis;
+      x[i] += 1e-4 * Vec3(u(rng) - 0.8, u(rng) - 0.8, u(rng) - 0.8);
+    }
+    const msd::TetFrame g = msd::tet_frame(x);
+    double ratio = g.height[0] / el.rest_height[0];
+    for (int i = 1; i < 4; ++i) ratio = std::min(ratio, g.height[i] / el.rest_height[i]);
+    if (std::abs(ratio - 0.7) < 1e-12) continue;
+    const bool expected = ratio < 0.7;
+    EXPECT_EQ(msd::nonlinear_terms_active(el, 0.7, x), expected) << "ratio " << ratio;
+    (expected ? below : above) += 1;
+    if (g.volume <= 0.0) ++inverted;
+  }
+  // Both outcomes and inverted tets were sampled.
+  EXPECT_GT(below, 1000);
+  EXPECT_GT(above, 1000);
+  EXPECT_GT(inverted, 100);
 }
 
 TEST(ElementForces, InvertedElementRecoversUnderFullModel) {

@@ -21,6 +21,13 @@ long compute_internal_forces(const Model& model, const Points& x, const Points& 
 /// the fast engine is tested against (each spring once per tet side).
 long compute_internal_forces_reference(const Model& model, const Points& x, const Points& v, Points& f);
 
+/// Thesis 5.8's test: some vertex height of the tet at x[0..3] is below
+/// `threshold` (> 0) times its rest height. With h_i = 6V / |m_i|
+/// (tet_frame.hpp), h_i < c h0_i is 6V < c h0_i |m_i|; it is tested without
+/// square roots or divisions: 6V <= 0 (flat or inverted: below), or
+/// (6V)^2 < (c h0_i)^2 |m_i|^2 for some i. The forces and Jacobians use it alike.
+bool nonlinear_terms_active(const Element& el, double threshold, const Vec3 x[4]);
+
 /// The non-linear terms of one element (face repulsion and volume
 /// preservation, whichever the model has, thesis eq. 5.1-5.3 and 5.5) added to
 /// f[0..3] for vertices x[0..3]; nothing when the thesis 5.8 threshold leaves
