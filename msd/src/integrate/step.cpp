@@ -3,6 +3,7 @@
 #include "msd/forces/element_forces.hpp"
 #include "msd/forces/force_engine.hpp"
 #include "msd/forces/parts.hpp"
+#include "msd/integrate/imex_strands.hpp"
 #include "msd/integrate/implicit.hpp"
 
 #include <cmath>
@@ -16,8 +17,9 @@ Integrator parse_integrator(const std::string& name) {
   if (name == "backward_euler") return Integrator::BackwardEuler;
   if (name == "bdf2") return Integrator::Bdf2;
   if (name == "quasi_static") return Integrator::QuasiStatic;
+  if (name == "imex_euler") return Integrator::ImexEuler;
   throw Error("unknown integrator '" + name +
-              "' (expected explicit_euler, symplectic_euler, velocity_verlet, backward_euler, bdf2 or quasi_static)");
+              "' (expected explicit_euler, symplectic_euler, velocity_verlet, imex_euler, backward_euler, bdf2 or quasi_static)");
 }
 
 std::string to_string(Integrator integrator) {
@@ -28,6 +30,7 @@ std::string to_string(Integrator integrator) {
     case Integrator::BackwardEuler: return "backward_euler";
     case Integrator::Bdf2: return "bdf2";
     case Integrator::QuasiStatic: return "quasi_static";
+    case Integrator::ImexEuler: return "imex_euler";
   }
   return "?";
 }
@@ -313,6 +316,22 @@ void step(const Model& model, State& state, const Controls& controls, double dt,
       accelerations(model, scratch, controls.load_scale, state.a);
       if (joints) step_joints(model, state, start, dt, scratch);
       state.v += dt * state.a;
+      state.x += dt * state.v;
+      break;
+    }
+    case Integrator::ImexEuler: {
+      evaluate_forces(model, state, start, scratch);
+      accelerations(model, scratch, controls.load_scale, state.a);
+      StrandSolveWorkspace* ws = nullptr;
+      if (!model.strands.empty()) {
+        if (!scratch.strand_solve) scratch.strand_solve = std::make_shared<StrandSolveWorkspace>();
+        ws = scratch.strand_solve.get();
+        // The strands' stiffness where their forces were evaluated: before the joints move.
+        assemble_strand_systems(model, state.x, state.joints, start, dt, *ws);
+      }
+      if (joints) step_joints(model, state, start, dt, scratch);
+      state.v += dt * state.a;
+      if (ws) solve_strand_velocities(model, state, *ws, state.v);
       state.x += dt * state.v;
       break;
     }

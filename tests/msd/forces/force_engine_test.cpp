@@ -331,4 +331,13 @@ TEST(ForceEngine, TheLegsStepAllocatesNothingAfterTheFirst) {
     msd::step_leg(leg, s, c, 1e-4, scratch);
   }
   EXPECT_EQ(g_allocations.load() - with_hip, 0);
+  // The IMEX step (the strands' systems, imex_strands.hpp): nothing after its first.
+  msd::step_leg(leg, s, c, 1e-4, scratch, msd::Integrator::ImexEuler);  // sizes the strands' systems
+  const long with_imex = g_allocations.load();
+  for (int k = 22; k < 42; ++k) {
+    c.femur = femur_at(k);
+    msd::step_leg(leg, s, c, 1e-4, scratch, msd::Integrator::ImexEuler);
+  }
+  EXPECT_EQ(g_allocations.load() - with_imex, 0);
+  EXPECT_GT(scratch.tendon_tension[0], 0.0);
 }

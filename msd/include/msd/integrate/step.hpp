@@ -9,6 +9,10 @@
 //  - Velocity Verlet (kick-drift-kick; dampers see the half-step velocity):
 //      v' = v + dt/2 a,  x+ = x + dt v',  a+ = a(x+, v'),  v+ = v' + dt/2 a+
 //    One force evaluation per step: a+ is kept in the State for the next step.
+//  - IMEX Euler (msd/integrate/imex_strands.hpp): symplectic Euler with the
+//    tendon strands' stiffness taken linearly implicitly,
+//      (M - dt^2 K_s) v+ = M v + dt f(x, v),  x+ = x + dt v+,
+//    stable for real (1.2 GPa) tendons at the tissue's own explicit step.
 //  - Backward Euler (implicit, msd/integrate/implicit.hpp):
 //      v+ = v + dt a(x+, v+),  x+ = x + dt v+,  solved by Newton's method.
 //  - BDF2 (implicit, second order; the same Newton solve):
@@ -28,7 +32,7 @@
 
 namespace msd {
 
-enum class Integrator { ExplicitEuler, SymplecticEuler, VelocityVerlet, BackwardEuler, Bdf2, QuasiStatic };
+enum class Integrator { ExplicitEuler, SymplecticEuler, VelocityVerlet, BackwardEuler, Bdf2, QuasiStatic, ImexEuler };
 
 /// Backward Euler, BDF2 and quasi-static: Newton solves, msd::NewtonOptions apply.
 inline bool is_implicit(Integrator i) {
@@ -36,7 +40,7 @@ inline bool is_implicit(Integrator i) {
 }
 
 /// Parses "explicit_euler", "symplectic_euler" (or "semi_implicit_euler"),
-/// "velocity_verlet", "backward_euler", "bdf2", "quasi_static".
+/// "velocity_verlet", "imex_euler", "backward_euler", "bdf2", "quasi_static".
 Integrator parse_integrator(const std::string& name);
 std::string to_string(Integrator integrator);
 

@@ -350,6 +350,7 @@ struct JointReport {
 };
 
 struct ImplicitWorkspace;  // msd/integrate/implicit.hpp
+struct StrandSolveWorkspace;  // msd/integrate/imex_strands.hpp
 
 /// Reused buffers and per-evaluation diagnostics.
 struct Scratch {
@@ -362,6 +363,8 @@ struct Scratch {
   /// The implicit integrator's matrix, factorisation and vectors (made on its
   /// first step, then reused).
   std::shared_ptr<ImplicitWorkspace> implicit;
+  /// The IMEX step's strand systems (made on its first step, then reused).
+  std::shared_ptr<StrandSolveWorkspace> strand_solve;
   long newton_iterations = 0;      ///< Newton iterations of the implicit steps so far
   int last_newton_iterations = 0;  ///< of the last implicit step
   int last_step_cuts = 0;          ///< times the last implicit step was halved
