@@ -100,6 +100,9 @@ void prepare_strand_sets(const Model& model, StrandSolveWorkspace& ws) {
     ws.llt[c].compute(ws.matrix[c] + Eigen::MatrixXd::Identity(dim, dim));  // (sizes its storage)
     ws.rhs[c].setZero(dim);
   }
+  ws.held.assign(ws.local.size(), Vec3::Zero());
+  ws.held_first.assign(model.strands.size(), Vec3::Zero());
+  ws.taut.assign(model.strands.size(), 0);
   ws.points.resize(model.strands.size());
   ws.jacobian.resize(model.strands.size());
   for (size_t si = 0; si < model.strands.size(); ++si) {
@@ -109,9 +112,11 @@ void prepare_strand_sets(const Model& model, StrandSolveWorkspace& ws) {
   }
 }
 
-void assemble_strand_systems(const Model& model, const Points& x, const std::vector<HingeState>& joints,
-                             const Controls& controls, double dt, StrandSolveWorkspace& ws) {
+void assemble_strand_systems(const Model& model, const State& state, const Controls& controls, double dt,
+                             StrandSolveWorkspace& ws) {
   prepare_strand_sets(model, ws);
+  const Points& x = state.x;
+  const std::vector<HingeState>& joints = state.joints;
   const double h2 = dt * dt;
   for (size_t c = 0; c + 1 < ws.node_offset.size(); ++c) {
     Eigen::MatrixXd& A = ws.matrix[c];
@@ -128,10 +133,19 @@ void assemble_strand_systems(const Model& model, const Points& x, const std::vec
       const Eigen::Index m = static_cast<Eigen::Index>(s.nodes.size());
       for (Eigen::Index k = 0; k < m; ++k) p.col(k) = x.col(s.nodes[static_cast<size_t>(k)]);
       if (s.anchor_group >= 0) p.col(m) = group_point(model, s.anchor_group, s.anchor_rest, x, joints, controls);
-      Eigen::MatrixXd& K = ws.jacobian[si];
-      if (!strand_jacobian(p, strand_natural_length(model, si, controls), s.k_t, K, s.toe_strain)) continue;
-      ws.stiff[c] = 1;
       const int* local = ws.local.data() + ws.point_offset[si];
+      Vec3* held = ws.held.data() + ws.point_offset[si];
+      for (Eigen::Index k = 0; k < m; ++k)
+        if (local[k] < 0) held[k] = state.v.col(s.nodes[static_cast<size_t>(k)]);
+      if (s.anchor_group >= 0) {
+        held[m] = p.col(m);
+        const KinematicGroup& g = model.groups[static_cast<size_t>(s.anchor_group)];
+        if (!g.nodes.empty()) ws.held_first[si] = state.v.col(g.nodes.front());
+      }
+      Eigen::MatrixXd& K = ws.jacobian[si];
+      ws.taut[si] = strand_jacobian(p, strand_natural_length(model, si, controls), s.k_t, K, s.toe_strain);
+      if (!ws.taut[si]) continue;
+      ws.stiff[c] = 1;
       for (Eigen::Index a = 0; a < p.cols(); ++a) {
         if (local[a] < 0) continue;
         for (Eigen::Index b = 0; b < p.cols(); ++b) {
@@ -143,7 +157,29 @@ void assemble_strand_systems(const Model& model, const Points& x, const std::vec
   }
 }
 
-void solve_strand_velocities(const Model& model, const State& state, StrandSolveWorkspace& ws, Points& v) {
+namespace {
+
+// How far held point k of strand si moves over the step: a prescribed node
+// at its start velocity; the anchor from its start position to where the
+// stepped joints and the end controls put it (a group translated with its
+// first node: that node's start velocity, as the node itself).
+Vec3 held_motion(const Model& model, size_t si, Eigen::Index k, const Controls& controls, double dt,
+                 const StrandSolveWorkspace& ws, const State& state) {
+  const Strand& s = model.strands[si];
+  const Vec3& held = ws.held[static_cast<size_t>(ws.point_offset[si] + k)];
+  if (k < static_cast<Eigen::Index>(s.nodes.size())) return dt * held;
+  const Vec3 end = group_point(model, s.anchor_group, s.anchor_rest, state.x, state.joints, controls);
+  const KinematicGroup& g = model.groups[static_cast<size_t>(s.anchor_group)];
+  const bool with_first_node = g.joint < 0 && !group_motion(controls, s.anchor_group) && !g.nodes.empty();
+  // (state.x still holds the step's start there; the first node's motion is its prescribed velocity.)
+  return end - held + (with_first_node ? Vec3(dt * ws.held_first[si]) : Vec3::Zero());
+}
+
+}  // namespace
+
+void solve_strand_velocities(const Model& model, const Controls& controls, double dt, StrandSolveWorkspace& ws,
+                             State& state) {
+  Points& v = state.v;
   for (size_t c = 0; c + 1 < ws.node_offset.size(); ++c) {
     if (!ws.stiff[c]) continue;
     const int first = ws.node_offset[c], count = ws.node_offset[c + 1] - first;
@@ -151,6 +187,19 @@ void solve_strand_velocities(const Model& model, const State& state, StrandSolve
     for (int k = 0; k < count; ++k) {
       const int i = ws.nodes[static_cast<size_t>(first + k)];
       r.segment<3>(3 * k) = model.mass[i] * v.col(i);
+    }
+    // + dt K_sp dx_p: the held points' motion, through the strands' coupling blocks.
+    for (int j = ws.strand_offset[c]; j < ws.strand_offset[c + 1]; ++j) {
+      const size_t si = static_cast<size_t>(ws.strand_of[static_cast<size_t>(j)]);
+      const int* local = ws.local.data() + ws.point_offset[si];
+      const Eigen::Index points = ws.point_offset[si + 1] - ws.point_offset[si];
+      if (!ws.taut[si]) continue;
+      for (Eigen::Index b = 0; b < points; ++b) {
+        if (local[b] >= 0) continue;
+        const Vec3 dx = held_motion(model, si, b, controls, dt, ws, state);
+        for (Eigen::Index a = 0; a < points; ++a)
+          if (local[a] >= 0) r.segment<3>(3 * local[a]) += dt * (ws.jacobian[si].block<3, 3>(3 * a, 3 * b) * dx);
+      }
     }
     ws.llt[c].compute(ws.matrix[c]);
     if (ws.llt[c].info() != Eigen::Success)

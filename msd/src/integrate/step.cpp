@@ -327,11 +327,11 @@ void step(const Model& model, State& state, const Controls& controls, double dt,
         if (!scratch.strand_solve) scratch.strand_solve = std::make_shared<StrandSolveWorkspace>();
         ws = scratch.strand_solve.get();
         // The strands' stiffness where their forces were evaluated: before the joints move.
-        assemble_strand_systems(model, state.x, state.joints, start, dt, *ws);
+        assemble_strand_systems(model, state, start, dt, *ws);
       }
       if (joints) step_joints(model, state, start, dt, scratch);
       state.v += dt * state.a;
-      if (ws) solve_strand_velocities(model, state, *ws, state.v);
+      if (ws) solve_strand_velocities(model, controls, dt, *ws, state);
       state.x += dt * state.v;
       break;
     }

@@ -17,7 +17,14 @@
 // strands' stiffness, the anchors and prescribed nodes held), M the lumped
 // masses:
 //
-//   (M - dt^2 K_s) v+ = M v + dt f(x, v),    x+ = x + dt v+.
+//   (M - dt^2 K_s) v+ = M v + dt f(x, v) + dt K_sp dx_p,    x+ = x + dt v+,
+//
+// where dx_p is how far the strands' held points (anchors, prescribed nodes)
+// move over the step: the linearised force f(x+) = f(x) + K (x+ - x) over
+// every point of the strand, the held ones' motion known. (Without it a
+// strand whose anchor and node move together would pull back on the node
+// with k_t dt times its speed: a numerical damper on every taut strand that
+// a turning bone drags along.)
 //
 // K_s is non-zero only on the free nodes of taut strands: each connected set
 // of them (strands sharing a node are one set) is a small dense system,
@@ -59,21 +66,30 @@ struct StrandSolveWorkspace {
   std::vector<Eigen::VectorXd> rhs;           ///< per set
   std::vector<char> stiff;                    ///< per set: a strand of it is taut
   std::vector<Points> points;                 ///< per strand: its points (buffer)
+  /// Per strand point (point_offset): a prescribed node's start velocity, or
+  /// the anchor's start position (buffer).
+  std::vector<Vec3> held;
+  std::vector<Vec3> held_first;  ///< per strand: its anchor group's first node's start velocity (buffer)
+  std::vector<char> taut;        ///< per strand, at the step's start (buffer)
   std::vector<Eigen::MatrixXd> jacobian;      ///< per strand (buffer)
 };
 
 /// Makes (or re-uses, when made for this model) the workspace's sets.
 void prepare_strand_sets(const Model& model, StrandSolveWorkspace& ws);
 
-/// Assembles each set's M - dt^2 K_s at positions x with the joints and
-/// controls of the step's start (where add_part_forces saw the anchors).
-void assemble_strand_systems(const Model& model, const Points& x, const std::vector<HingeState>& joints,
-                             const Controls& controls, double dt, StrandSolveWorkspace& ws);
+/// Assembles each set's M - dt^2 K_s at the state's positions with the joints
+/// and controls of the step's start (where add_part_forces saw the anchors),
+/// and records where the held points are and how fast they move.
+void assemble_strand_systems(const Model& model, const State& state, const Controls& controls, double dt,
+                             StrandSolveWorkspace& ws);
 
-/// Replaces the velocities of each taut set's nodes in v - which holds
+/// Replaces the velocities of each taut set's nodes in state.v - which holds
 /// symplectic Euler's v + dt a on entry - by the solution of the set's system,
-/// (M - dt^2 K_s) v+ = M (v + dt a). Throws SimulationFailure (at `state`'s
-/// time and step, naming a node of the set) if a system is not positive definite.
-void solve_strand_velocities(const Model& model, const State& state, StrandSolveWorkspace& ws, Points& v);
+/// (M - dt^2 K_s) v+ = M (v + dt a) + dt K_sp dx_p, the anchors' motion dx_p
+/// from the joints stepped into `state` and the step's end `controls`.
+/// Throws SimulationFailure (at the state's time and step, naming a node of
+/// the set) if a system is not positive definite.
+void solve_strand_velocities(const Model& model, const Controls& controls, double dt, StrandSolveWorkspace& ws,
+                             State& state);
 
 }  // namespace msd
