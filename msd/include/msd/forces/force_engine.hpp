@@ -9,15 +9,21 @@
 //     per-tet sum up to round-off because every tet sees the same rest length;
 //  2. tets (face repulsion and volume preservation with their equalising
 //     forces, thesis eq. 5.1-5.3, 5.5, and the continuum element,
-//     stable_neo_hookean.hpp), once per tet into its four corners;
+//     stable_neo_hookean.hpp), once per tet into its four corners. For the
+//     thesis' element the pass is vectorised across tets: in chunks of 64,
+//     thesis 5.8's threshold is tested eight tets at a time, then the tets it
+//     leaves on are gathered eight to a batch (structure of arrays on the
+//     stack) and the element's formulas run lane by lane in the scalar
+//     code's operations and order - the same bits as element_forces.cpp;
 //  3. nodes: each node's force gathered from its edges and corners in a fixed
 //     order.
 // Every pass writes only its own entries, so the passes run on `model.threads`
 // threads (OpenMP) without locks and the result is bit-identical for every
-// thread count. The edge pass is compiled for AVX-512, AVX2 and the x86-64
-// baseline and the CPU picks at run time (GCC function multi-versioning); the
-// file is compiled without floating-point contraction, so every variant gives
-// the same bits.
+// thread count. The edge pass and the tet batches are compiled for AVX-512,
+// AVX2 and the x86-64 baseline and the CPU picks at run time (GCC function
+// multi-versioning); the file is compiled without floating-point contraction
+// (and without errno for square roots, so they vectorise), so every variant
+// gives the same bits.
 #pragma once
 
 #include "msd/model/model.hpp"
