@@ -96,8 +96,9 @@ void prepare_strand_sets(const Model& model, StrandSolveWorkspace& ws) {
   for (size_t c = 0; c < sets; ++c) {
     const Eigen::Index dim = 3 * static_cast<Eigen::Index>(members[c].size());
     ws.matrix[c].setZero(dim, dim);
-    ws.llt[c] = Eigen::LLT<Eigen::MatrixXd>(dim);
-    ws.llt[c].compute(ws.matrix[c] + Eigen::MatrixXd::Identity(dim, dim));  // (sizes its storage)
+    // Sizes its storage. (Computed in place: an LLT made from a size alone
+    // leaves its info unset, and copying it reads that - UBSan catches it.)
+    ws.llt[c].compute(ws.matrix[c] + Eigen::MatrixXd::Identity(dim, dim));
     ws.rhs[c].setZero(dim);
   }
   ws.held.assign(ws.local.size(), Vec3::Zero());
