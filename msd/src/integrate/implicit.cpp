@@ -168,13 +168,22 @@ inline void add_edge_blocks(double* values, const SystemLayout& L, int n, int e,
 void assemble_parts(const Model& model, const SystemLayout& L, const Points& x, const Points& v,
                     const std::vector<HingeState>& joints, const Controls& controls, double c_d, double c_k,
                     double* values) {
-  thread_local Points p;
-  thread_local Eigen::MatrixXd K;
+  // Each strand's points and Jacobian in buffers of its own size, kept from
+  // one assembly to the next (strands differ in length: one shared buffer
+  // would be resized, and allocate, at every strand).
+  thread_local std::vector<Points> points_of;
+  thread_local std::vector<Eigen::MatrixXd> jacobian_of;
+  if (points_of.size() < model.strands.size()) {
+    points_of.resize(model.strands.size());
+    jacobian_of.resize(model.strands.size());
+  }
   for (size_t si = 0; c_k != 0.0 && si < model.strands.size(); ++si) {
     const Strand& s = model.strands[si];
     const Eigen::Index m = static_cast<Eigen::Index>(s.nodes.size());
     const Eigen::Index points = m + (s.anchor_group >= 0 ? 1 : 0);
-    if (p.cols() != points) p.resize(3, points);  // (allocates when strands differ in length; the implicit step allocates anyway)
+    Points& p = points_of[si];
+    Eigen::MatrixXd& K = jacobian_of[si];
+    if (p.cols() != points) p.resize(3, points);
     for (Eigen::Index k = 0; k < m; ++k) p.col(k) = x.col(s.nodes[static_cast<size_t>(k)]);
     if (s.anchor_group >= 0) p.col(m) = group_point(model, s.anchor_group, s.anchor_rest, x, joints, controls);
     if (!strand_jacobian(p, strand_natural_length(model, si, controls), s.k_t, K, s.toe_strain)) continue;
@@ -229,11 +238,13 @@ void assemble_parts(const Model& model, const SystemLayout& L, const Points& x, 
 void assemble_volume_groups(const Model& model, const SystemLayout& L, const Points& x, double c_k, double* values) {
   const VolumeGroups& G = model.volume_groups;
   const bool bulk = model.terms & kBulk;
-  thread_local Eigen::Matrix3Xd grad;
+  thread_local Eigen::Matrix3Xd grad_buffer;  // the largest group's size: no resize per group
   for (int g = 0; g < G.size(); ++g) {
     const size_t gi = static_cast<size_t>(g);
     const int m = G.node_offset[gi + 1] - G.node_offset[gi];
-    grad.setZero(3, m);
+    if (grad_buffer.cols() < m) grad_buffer.resize(3, m);
+    auto grad = grad_buffer.leftCols(m);
+    grad.setZero();
     double modulus = 0.0, volume = 0.0;
     for (int q = G.tet_offset[gi]; q < G.tet_offset[gi + 1]; ++q) {
       const size_t t = static_cast<size_t>(G.tets[static_cast<size_t>(q)]);
@@ -349,6 +360,35 @@ struct HeldContact {
   Vec3 row;        // its row of G before it is zeroed (residual): h times the force holding it
 };
 
+// Eigen's simplicial LDL^T, factorised from a matrix already in its fill-reducing
+// order. SimplicialLDLT::factorize(S) permutes S into a temporary sparse matrix
+// on every call (Eigen 3.4, SimplicialCholesky.h: `CholMatrixType tmp(size,
+// size)` and the twisted copy's count vector), and solve() permutes in place
+// through a heap mask. factorize_preordered - Eigen's own numeric factorisation,
+// the one factorize() calls - takes the permuted upper triangle C = P S P^T
+// directly; the caller keeps C's pattern and fills its values. Then a step's
+// factorisation and solves allocate nothing (below Eigen's stack limit of
+// 128 KiB of scratch per factorisation, 16,384 unknowns).
+class PreorderedLdlt : public Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> {
+ public:
+  // Factorises C = P S P^T, P = permutationP() of the analysed pattern (upper triangle read).
+  void factorize_permuted(const Eigen::SparseMatrix<double>& c) { this->template factorize_preordered<true>(c); }
+  // x = S^-1 b through the factors, with `work` (size n) holding P b; x must not alias b.
+  void solve_into(const Eigen::VectorXd& b, Eigen::VectorXd& work, Eigen::VectorXd& x) const {
+    if (this->m_P.size() > 0)
+      work = this->m_P * b;
+    else
+      work = b;
+    this->matrixL().solveInPlace(work);
+    work = this->m_diag.asDiagonal().inverse() * work;  // as Eigen's solve: the same bits
+    this->matrixU().solveInPlace(work);
+    if (this->m_P.size() > 0)
+      x = this->m_Pinv * work;
+    else
+      x = work;
+  }
+};
+
 // The workspace of the implicit steps: layout, matrix, factorisation, vectors.
 struct ImplicitWorkspace {
   const Model* model = nullptr;  // the model the layout was made for
@@ -358,8 +398,14 @@ struct ImplicitWorkspace {
   SystemLayout layout;
   Eigen::SparseMatrix<double> A;
   Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;  // sparse_lu
-  Eigen::SparseMatrix<double> S;  // symmetric_ldlt: (A + A^T) / 2, its pattern fixed by the layout's
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
+  // symmetric_ldlt: the symmetric part (A + A^T) / 2 is factorised as
+  // C = P S P^T (its upper triangle), whose entries are gathered straight
+  // from A's values through c_from / c_from_t (SymmetricPart), so that no
+  // sparse expression is evaluated - and nothing allocated - per factorisation.
+  PreorderedLdlt ldlt;
+  Eigen::SparseMatrix<double> C;
+  std::vector<int> c_from, c_from_t;  // per entry of C: A's entries (i, j) and (j, i) it averages
+  Eigen::VectorXd permuted;           // the solve's right-hand side in C's order
   bool ldlt_analysed = false;
   Points x1, v1, v_trial, r, load;
   // The step's base: x+ = x_base + h v+ and M (v+ - v_base) = h F (backward
@@ -373,6 +419,9 @@ struct ImplicitWorkspace {
   double factor_h = 0.0;  // the h it was made for (M - h D - h^2 K)
   bool factor_statics = false;  // and whether for a quasi-static solve (-h^2 K)
   std::vector<HingeState> joints_end;  // the joints at the step's end
+  // A cut step's halfway controls and joint states, one per depth of cut (advance).
+  std::vector<Controls> cut_controls;
+  std::vector<std::vector<HingeState>> cut_joints;
   double force_floor = 0.0;  // N: residual forces below it are round-off (round_off_force)
   // Held contacts (hold_contacts): nodes on a stick obstacle's surface at the
   // step's start move with it over the step and drop out of the solve.
@@ -638,6 +687,41 @@ bool same_held_nodes(const ImplicitWorkspace& w) {
                     [](const HeldContact& hc, int node) { return hc.node == node; });
 }
 
+// The symmetric part's ordering and its permuted pattern, once per layout:
+// AMD on the layout's pattern (structurally symmetric: every block (a, b) has
+// its (b, a)), C = P S P^T's upper triangle as Eigen's factorize() would form
+// it, and for each entry of C the positions in A's values of the entries
+// (i, j) and (j, i) of S it holds - found by permuting a copy of the pattern
+// whose values are their own positions.
+void analyse_symmetric_part(ImplicitWorkspace& w) {
+  const Eigen::SparseMatrix<double>& pattern = w.layout.pattern;
+  w.ldlt.analyzePattern(pattern);
+  Eigen::SparseMatrix<double> ids = pattern;
+  for (Eigen::Index k = 0; k < ids.nonZeros(); ++k) ids.valuePtr()[k] = static_cast<double>(k);
+  w.C.resize(pattern.rows(), pattern.cols());
+  w.C.selfadjointView<Eigen::Upper>() = ids.selfadjointView<Eigen::Lower>().twistedBy(w.ldlt.permutationP());
+  w.C.makeCompressed();
+  const int* outer = pattern.outerIndexPtr();
+  const int* inner = pattern.innerIndexPtr();
+  // Position of (row, col) in the pattern's values.
+  const auto at = [&](int row, int col) {
+    const int* p = std::lower_bound(inner + outer[col], inner + outer[col + 1], row);
+    if (p == inner + outer[col + 1] || *p != row) throw Error("implicit step: the system's pattern is not symmetric");
+    return static_cast<int>(p - inner);
+  };
+  w.c_from.resize(static_cast<size_t>(w.C.nonZeros()));
+  w.c_from_t.resize(w.c_from.size());
+  for (size_t k = 0; k < w.c_from.size(); ++k) {
+    const int from = static_cast<int>(w.C.valuePtr()[k]);
+    const int col = static_cast<int>(std::upper_bound(outer, outer + pattern.cols() + 1, from) - outer) - 1;
+    const int row = inner[from];
+    w.c_from[k] = from;
+    w.c_from_t[k] = at(col, row);
+  }
+  w.permuted.resize(pattern.rows());
+  w.ldlt_analysed = true;
+}
+
 // Factorises w.A by the model's linear solver (NewtonOptions): A itself, or
 // its symmetric part (A + A^T)/2 - whose pattern is the layout's for every
 // factorisation, so its ordering is analysed once. Returns whether it worked.
@@ -646,14 +730,12 @@ bool factorize(const Model& model, ImplicitWorkspace& w) {
     w.lu.factorize(w.A);
     return w.lu.info() == Eigen::Success;
   }
-  w.S = w.A.transpose();
-  w.S += w.A;
-  w.S *= 0.5;
-  if (!w.ldlt_analysed) {
-    w.ldlt.analyzePattern(w.S);
-    w.ldlt_analysed = true;
-  }
-  w.ldlt.factorize(w.S);
+  if (!w.ldlt_analysed) analyse_symmetric_part(w);
+  double* c = w.C.valuePtr();
+  const double* a = w.A.valuePtr();
+  for (size_t k = 0; k < w.c_from.size(); ++k)
+    c[k] = 0.5 * (a[w.c_from[k]] + a[w.c_from_t[k]]);
+  w.ldlt.factorize_permuted(w.C);
   return w.ldlt.info() == Eigen::Success;
 }
 
@@ -662,7 +744,7 @@ void solve(const Model& model, ImplicitWorkspace& w) {
   if (model.newton.linear_solver == LinearSolver::sparse_lu)
     w.delta = w.lu.solve(w.rhs);
   else
-    w.delta = w.ldlt.solve(w.rhs);
+    w.ldlt.solve_into(w.rhs, w.permuted, w.delta);
 }
 
 // Newton's stopping bound on max |G_i|: the tolerance relative to the
@@ -689,7 +771,7 @@ struct NewtonResult {
   bool converged = false;
   int iterations = 0;
   double residual = 0.0, scale = 0.0;  // max |G_i| and the balance's largest term
-  std::string why;
+  const char* why = "";  // why it stopped (a literal: a failed solve that a cut step retries allocates nothing)
 };
 
 // Newton's method on G(v+) = 0 for one step from `s` to time `time`, with
@@ -823,7 +905,7 @@ double set_base(const State& s, double dt, bool bdf2, ImplicitWorkspace& w) {
 void set_load(const Model& model, double scale, ImplicitWorkspace& w) {
   w.load.setZero(3, model.num_nodes());
   if (model.external_force.cols() == model.num_nodes()) w.load = scale * model.external_force;
-  if (model.terms & kGravity) w.load += (scale * model.gravity) * model.mass.transpose();
+  if (model.terms & kGravity) w.load.noalias() += (scale * model.gravity) * model.mass.transpose();  // (an outer product: without noalias a temporary)
 }
 
 // Advances s by dt to `time`: one Newton solve, or - when it fails - two
@@ -873,7 +955,11 @@ void advance(const Model& model, State& s, const Controls& c, const std::vector<
       << tolerance(model, r.scale, h, w) / h << " N)";
     throw SimulationFailure(m.str(), time, s.step + 1, -1, static_cast<int>(node));
   }
-  Controls mid = c;
+  // The halfway controls and joints, in buffers per cut depth (sized in
+  // step_implicit, never here: the deeper calls hold references into them;
+  // reused, so a cut step allocates nothing once its depth has been reached).
+  Controls& mid = w.cut_controls[static_cast<size_t>(cuts)];
+  mid = c;
   // Quasi-static: the load halfway too (the equilibria between are a
   // continuation path to the step's end). Dynamic steps keep the end's load.
   if (w.statics) mid.load_scale = 0.5 * (w.load_from + c.load_scale);
@@ -882,7 +968,8 @@ void advance(const Model& model, State& s, const Controls& c, const std::vector<
   // A rigid motion halfway: its second-order Taylor estimate half a step back.
   for (auto& m : mid.group_motion)
     if (m) m = rigid_motion_before(*m, 0.5 * dt);
-  std::vector<HingeState> half(to.size());
+  std::vector<HingeState>& half = w.cut_joints[static_cast<size_t>(cuts)];
+  half.resize(to.size());
   for (size_t j = 0; j < to.size(); ++j)
     half[j] = {0.5 * (from[j].angle + to[j].angle), 0.5 * (from[j].velocity + to[j].velocity)};
   ++scratch.last_step_cuts;
@@ -904,6 +991,11 @@ void step_implicit(const Model& model, State& state, const Controls& controls, d
   scratch.last_newton_iterations = 0;
   scratch.last_step_cuts = 0;
   w.force_floor = round_off_force(model);
+  const size_t depths = static_cast<size_t>(std::max(model.newton.max_step_cuts, 0));
+  if (w.cut_controls.size() < depths) {
+    w.cut_controls.resize(depths);
+    w.cut_joints.resize(depths);
+  }
   // The joints were stepped already (step_joints): the solve holds their
   // groups at the new states, halfway ones when the step is cut.
   w.joints_end = state.joints;
