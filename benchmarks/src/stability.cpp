@@ -184,8 +184,13 @@ std::vector<ExtremeRow> run_extremes(const Spec& spec, const std::vector<std::st
   std::vector<Run> runs;
   for (const auto& terms : term_sets) runs.push_back({spec.msd->integrator, terms});
   if (!msd::is_implicit(msd::parse_integrator(spec.msd->integrator))) runs.push_back({"backward_euler", "all"});
-  // The continuum rung, implicit, where the spec's material has a Poisson's ratio.
-  if (spec.material.poisson_ratio) runs.push_back({"bdf2", "continuum"});
+  // The continuum rung and the neo lattice (zero-length springs, dampers and
+  // the per-cube bulk term: every term with an energy), implicit, where the
+  // spec's material has a Poisson's ratio.
+  if (spec.material.poisson_ratio) {
+    runs.push_back({"bdf2", "continuum"});
+    runs.push_back({"bdf2", "neo_lattice"});
+  }
   for (const Case& k : cases)
     for (const Run& run : runs) {
       const std::string& terms = run.terms;
@@ -216,7 +221,14 @@ std::vector<ExtremeRow> run_extremes(const Spec& spec, const std::vector<std::st
           set_term_set(m, terms);
           n["msd"]["integrator"] = run.integrator;
           n["msd"]["dt"] = dt;
-          if (k.volume_factor >= 0) n["msd"]["volume_factor"] = k.volume_factor;
+          // The volume factor scales the thesis' volume term; for the bulk
+          // term, its modulus (bulk_factor); the continuum rung has neither.
+          if (k.volume_factor >= 0) {
+            if (terms == "neo_lattice")
+              n["msd"]["bulk_factor"] = k.volume_factor;
+            else
+              n["msd"]["volume_factor"] = k.volume_factor;
+          }
           if (k.youngs_modulus > 0) n["material"]["youngs_modulus"] = k.youngs_modulus;
           if (k.density > 0) n["material"]["density"] = k.density;
           if (k.damping_time >= 0) n["material"]["damping_time"] = k.damping_time;
