@@ -13,6 +13,7 @@
 #include <functional>
 #include <random>
 #include <string>
+#include <vector>
 
 namespace testing_support {
 
@@ -22,6 +23,15 @@ inline std::string read_text(const std::string& path) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+/// The length of the polyline through the columns `nodes` of `x` and, when
+/// given, on to the point `end` (a strand's anchor): the strand's length.
+inline double polyline_length(const msd::Points& x, const std::vector<int>& nodes, const msd::Vec3* end = nullptr) {
+  double length = 0.0;
+  for (size_t i = 0; i + 1 < nodes.size(); ++i) length += (x.col(nodes[i + 1]) - x.col(nodes[i])).norm();
+  if (end && !nodes.empty()) length += (*end - msd::Vec3(x.col(nodes.back()))).norm();
+  return length;
 }
 
 /// A random, positively oriented, reasonably shaped tet (quality > 0.2) near

@@ -196,12 +196,7 @@ TEST(ImexStrands, StrandsSharingANodeAreSolvedAsOneSystem) {
   b.nodes = {2, 0, 3};
   b.anchor_rest = Vec3(-0.05, 0.02, 0.25);
   auto length = [&](const msd::Strand& s) {
-    msd::Points p(3, static_cast<Eigen::Index>(s.nodes.size()) + 1);
-    for (size_t i = 0; i < s.nodes.size(); ++i) p.col(static_cast<Eigen::Index>(i)) = m.rest_positions.col(s.nodes[i]);
-    p.col(p.cols() - 1) = s.anchor_rest;
-    std::vector<int> idx(static_cast<size_t>(p.cols()));
-    for (size_t i = 0; i < idx.size(); ++i) idx[i] = static_cast<int>(i);
-    return msd::strand_length(p, idx);
+    return testing_support::polyline_length(m.rest_positions, s.nodes, &s.anchor_rest);
   };
   a.natural_length = 0.97 * length(a);
   b.natural_length = 0.95 * length(b);

@@ -444,13 +444,8 @@ msd::Model block_with_parts(double k_t) {
   EXPECT_EQ(column.size(), 3u);
   msd::Strand anchored{column, 0.0, k_t, 1, Vec3(0.01, 0.01, 0.04)};
   msd::Strand free_strand{{column[0], column[2]}, 0.0, k_t, -1, Vec3::Zero()};
-  for (msd::Strand* s : {&anchored, &free_strand}) {
-    msd::Points p(3, static_cast<Eigen::Index>(s->nodes.size()));
-    for (size_t k = 0; k < s->nodes.size(); ++k) p.col(static_cast<Eigen::Index>(k)) = m.rest_positions.col(s->nodes[k]);
-    std::vector<int> idx(s->nodes.size());
-    for (size_t k = 0; k < idx.size(); ++k) idx[k] = static_cast<int>(k);
-    s->natural_length = msd::strand_length(p, idx) + (s->anchor_group >= 0 ? 0.01 : 0.0);
-  }
+  for (msd::Strand* s : {&anchored, &free_strand})
+    s->natural_length = testing_support::polyline_length(m.rest_positions, s->nodes) + (s->anchor_group >= 0 ? 0.01 : 0.0);
   m.strands = {anchored, free_strand};
   msd::Muscle mu;
   mu.name = "vertical";
@@ -902,10 +897,8 @@ TEST(Implicit, AssembledJacobiansOfToeStrandsAndHillMusclesMatchFiniteDifference
   double length[2] = {0.0, 0.0};
   for (size_t k = 0; k < 2; ++k) {
     const msd::Strand& st = m.strands[k];
-    std::vector<Vec3> p;
-    for (int node : st.nodes) p.push_back(s.x.col(node));
-    if (st.anchor_group >= 0) p.push_back(msd::group_point(m, st.anchor_group, st.anchor_rest, s.x, s.joints, c));
-    for (size_t i = 0; i + 1 < p.size(); ++i) length[k] += (p[i + 1] - p[i]).norm();
+    const Vec3 anchor = st.anchor_group >= 0 ? msd::group_point(m, st.anchor_group, st.anchor_rest, s.x, s.joints, c) : Vec3::Zero();
+    length[k] = testing_support::polyline_length(s.x, st.nodes, st.anchor_group >= 0 ? &anchor : nullptr);
   }
   c.strand_natural_length = {length[0] / 1.015, length[1] / 1.05};
   msd::Scratch scratch;
