@@ -190,6 +190,7 @@ std::vector<ExtremeRow> run_extremes(const Spec& spec, const std::vector<std::st
   if (spec.material.poisson_ratio) {
     runs.push_back({"bdf2", "continuum"});
     runs.push_back({"bdf2", "neo_lattice"});
+    runs.push_back({"bdf2", "neo_lattice_repulsion"});
   }
   for (const Case& k : cases)
     for (const Run& run : runs) {
@@ -221,10 +222,18 @@ std::vector<ExtremeRow> run_extremes(const Spec& spec, const std::vector<std::st
           set_term_set(m, terms);
           n["msd"]["integrator"] = run.integrator;
           n["msd"]["dt"] = dt;
+          // The full model with a barrier: the thesis' face repulsion with its
+          // floor at 1e-4 x0 (a log barrier up to there) on the neo lattice,
+          // and Newton keeping every tet's orientation, so that the barrier
+          // is never stepped across.
+          if (terms == "neo_lattice_repulsion") {
+            n["msd"]["repulsion_floor"] = 1e-4;
+            if (implicit) n["msd"]["newton_keep_orientation"] = true;
+          }
           // The volume factor scales the thesis' volume term; for the bulk
           // term, its modulus (bulk_factor); the continuum rung has neither.
           if (k.volume_factor >= 0) {
-            if (terms == "neo_lattice")
+            if (terms == "neo_lattice" || terms == "neo_lattice_repulsion")
               n["msd"]["bulk_factor"] = k.volume_factor;
             else
               n["msd"]["volume_factor"] = k.volume_factor;

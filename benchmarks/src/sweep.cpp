@@ -160,8 +160,9 @@ std::vector<std::string> term_set(const std::string& name) {
   if (name == "springs_dampers") return {"springs", "dampers"};
   if (name == "continuum") return {"neo_hookean", "dampers"};
   if (name == "neo_lattice") return {"springs", "dampers", "bulk"};
+  if (name == "neo_lattice_repulsion") return {"springs", "dampers", "bulk", "repulsion"};
   throw msd::Error("sweep: unknown term set '" + name +
-                   "' (expected all, no_repulsion, no_volume, springs_dampers, continuum, neo_lattice)");
+                   "' (expected all, no_repulsion, no_volume, springs_dampers, continuum, neo_lattice, neo_lattice_repulsion)");
 }
 
 void set_term_set(YAML::Node& msd, const std::string& name) {
@@ -171,7 +172,7 @@ void set_term_set(YAML::Node& msd, const std::string& name) {
   else if (msd["continuum_volume"])
     msd.remove("continuum_volume");
   if (msd["bulk_factor"]) msd.remove("bulk_factor");  // the sets with the bulk term take its default
-  if (name == "neo_lattice") {
+  if (name == "neo_lattice" || name == "neo_lattice_repulsion") {
     msd["zero_length_springs"] = true;
     msd.remove("edge_classes");
   } else if (msd["zero_length_springs"]) {

@@ -42,6 +42,7 @@ std::vector<Parameter> declare() {
       integer("newton.max_step_cuts", model.newton.max_step_cuts, Range::closed(0, 30), "backward_euler and bdf2 only: halvings of a step whose Newton solve failed before the run fails"),
       flag("newton.reuse_factorization", model.newton.reuse_factorization, "backward_euler and bdf2 only: modified Newton - try an earlier step's LU factorisation first (false: factorise every iteration)"),
       choice("newton.linear_solver", {"sparse_lu", "symmetric_ldlt"}, msd::to_string(model.newton.linear_solver), "backward_euler and bdf2 only: sparse_lu factorises Newton's matrix (exact Newton); symmetric_ldlt its symmetric part (approximate Newton, cheaper factorisations)"),
+      flag("newton.keep_orientation", model.newton.keep_orientation, "backward_euler and bdf2 only: every iterate Newton accepts keeps every tet's orientation"),
       number("output_interval", "s", 0.04, positive, "time between recorded frames (the thesis' 1/25 s); a whole number of steps"),
       vector3("gravity", "m/s^2", model.gravity, "in the leg's frame (z up the leg, x forward)"),
       other("terms", Kind::List, "", "all", "force terms: springs, dampers, repulsion, volume, gravity"),

@@ -221,7 +221,7 @@ TEST(LegScene, TheIntegratorAndItsNewtonSettingsAreReadAndMisuseIsRefused) {
   EXPECT_EQ(leg::read_leg_scene(scenes() + "drop.yaml").integrator, msd::Integrator::SymplecticEuler);  // the default
   std::string f = variant_of("drop", "dt: 2.0e-4",
                              "dt: 2.0e-4\nintegrator: backward_euler\nnewton: {tolerance: 1.0e-6, max_iterations: 12, "
-                             "reuse_factorization: false}",
+                             "reuse_factorization: false, keep_orientation: true}",
                              dir + "/implicit.yaml");
   const leg::LegScene s = leg::read_leg_scene(f);
   EXPECT_EQ(s.integrator, msd::Integrator::BackwardEuler);
@@ -230,6 +230,8 @@ TEST(LegScene, TheIntegratorAndItsNewtonSettingsAreReadAndMisuseIsRefused) {
   EXPECT_EQ(s.model.newton.max_step_cuts, msd::NewtonOptions{}.max_step_cuts);
   EXPECT_FALSE(s.model.newton.reuse_factorization);
   EXPECT_TRUE(msd::NewtonOptions{}.reuse_factorization);  // modified Newton by default
+  EXPECT_TRUE(s.model.newton.keep_orientation);
+  EXPECT_FALSE(msd::NewtonOptions{}.keep_orientation);  // off by default
   // Newton settings without the implicit integrator, an unknown integrator, a bad tolerance.
   f = variant_of("drop", "dt: 2.0e-4", "dt: 2.0e-4\nnewton: {tolerance: 1.0e-6}", dir + "/newton_explicit.yaml");
   std::string e = error_of(f);

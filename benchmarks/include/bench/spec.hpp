@@ -81,6 +81,7 @@ struct MsdSpec {
   int newton_max_iterations = 20, newton_max_step_cuts = 6;
   bool newton_reuse_factorization = true;  ///< modified Newton (msd::NewtonOptions)
   std::string newton_linear_solver = "sparse_lu";  ///< sparse_lu | symmetric_ldlt (msd::LinearSolver)
+  bool newton_keep_orientation = false;  ///< every accepted iterate keeps every tet's orientation (msd::NewtonOptions)
   std::string continuum_volume = "per_tet";  ///< per_tet | per_cube: the neo_hookean term's volume ratio (per cube: mean dilatation)
   /// msd.edge_classes.CLASS.{stiffness, tension_exponent, compression_exponent}:
   /// each edge class's factor on k_s and its spring law (msd/forces/spring_law.hpp),

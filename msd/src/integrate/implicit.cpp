@@ -766,6 +766,17 @@ double potential_energy(const Model& model, const ImplicitWorkspace& w) {
   return conservative_energy(model, w.x1) - (w.load.array() * w.x1.array()).sum();
 }
 
+// Whether every tet of the iterate w.x1 keeps its orientation (signed
+// volume > 0); always true without NewtonOptions::keep_orientation.
+bool orientation_kept(const Model& model, const ImplicitWorkspace& w) {
+  if (!model.newton.keep_orientation) return true;
+  for (const Element& el : model.elements) {
+    const auto& n = el.nodes;
+    if (!(tet_signed_volume(w.x1.col(n[0]), w.x1.col(n[1]), w.x1.col(n[2]), w.x1.col(n[3])) > 0.0)) return false;
+  }
+  return true;
+}
+
 // What the last Newton solve reached.
 struct NewtonResult {
   bool converged = false;
@@ -781,6 +792,10 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
                     double time, double h, ImplicitWorkspace& w, Scratch& scratch) {
   NewtonResult out;
   positions_from_velocities(model, c, joints, h, w);
+  if (!orientation_kept(model, w)) {  // the guess inverts a tet: start from the step's start positions instead
+    w.v1 = (s.x - w.x_base) / h;
+    positions_from_velocities(model, c, joints, h, w);
+  }
   double l2 = 0.0;
   out.residual = residual(model, s, c, joints, time, h, w, scratch, out.scale, l2);
   while (!(out.residual <= tolerance(model, out.scale, h, w))) {
@@ -804,8 +819,9 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
       w.r_keep = w.r;
       w.v1 = w.v_trial + Eigen::Map<const Points>(w.delta.data(), 3, model.num_nodes());
       positions_from_velocities(model, c, joints, h, w);
-      double scale = 0.0, trial_l2 = 0.0;
-      const double trial = residual(model, s, c, joints, time, h, w, scratch, scale, trial_l2);
+      double scale = 0.0, trial_l2 = std::numeric_limits<double>::infinity();
+      const double trial =
+          orientation_kept(model, w) ? residual(model, s, c, joints, time, h, w, scratch, scale, trial_l2) : trial_l2;
       if (trial_l2 <= 0.5 * l2) {
         // With LU a weak contraction (worse than 1/10) would spend the
         // iteration budget: the next iteration factorises afresh. The
@@ -854,8 +870,10 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
     for (int ls = 0;; ++ls) {
       w.v1 = w.v_trial + alpha * Eigen::Map<const Points>(w.delta.data(), 3, model.num_nodes());
       positions_from_velocities(model, c, joints, h, w);
-      double scale = 0.0, trial_l2 = 0.0;
-      const double trial = residual(model, s, c, joints, time, h, w, scratch, scale, trial_l2);
+      double scale = 0.0, trial_l2 = std::numeric_limits<double>::infinity();
+      // An update that inverts a tet (keep_orientation) counts as no decrease.
+      const bool kept = orientation_kept(model, w);
+      const double trial = kept ? residual(model, s, c, joints, time, h, w, scratch, scale, trial_l2) : trial_l2;
       if (trial_l2 < l2 || ls == 10 || (by_energy && std::isfinite(trial_l2) && potential_energy(model, w) < e0)) {
         out.residual = trial;
         out.scale = scale;

@@ -45,6 +45,15 @@ namespace msd {
 /// Newton whose convergence rate is set by A's asymmetry (the dampers'
 /// position derivatives and the non-conservative volume term), at a fraction
 /// of the cost (docs/msd-model.md section 5).
+///
+/// With `keep_orientation` every iterate Newton accepts keeps every tet's
+/// orientation (signed volume > 0): a first guess that inverts one is replaced
+/// by the step's start positions, a chord step that does is dropped, and the
+/// line search halves an update until none does. With a barrier among the
+/// forces (the face repulsion with a small `repulsion_floor`) the step's
+/// solution then lies inside, and no element inverts however hard it is
+/// loaded; without one Newton may stall where the balance needs an inverted
+/// tet. Off by default (the check costs a pass over the tets per iterate).
 enum class LinearSolver { sparse_lu, symmetric_ldlt };
 
 struct NewtonOptions {
@@ -53,6 +62,7 @@ struct NewtonOptions {
   int max_step_cuts = 6;
   bool reuse_factorization = true;
   LinearSolver linear_solver = LinearSolver::sparse_lu;
+  bool keep_orientation = false;
 };
 
 /// "sparse_lu" / "symmetric_ldlt"; parse_linear_solver throws msd::Error naming the choices.
