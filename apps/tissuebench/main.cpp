@@ -168,7 +168,7 @@ int dispatch(int argc, char** argv) {
                         "Fixed-step integrators (default: symplectic_euler,velocity_verlet,explicit_euler)")
       ->delimiter(',');
   sweep_cmd->add_option("--terms", sweep.terms,
-                        "Term sets: all, no_repulsion, no_volume, springs_dampers, continuum, neo_lattice (default: the first four)")
+                        "Term sets: all, no_repulsion, no_volume, springs_dampers, continuum, neo_lattice, neo_lattice_repulsion (default: the first four)")
       ->delimiter(',');
   sweep_cmd->add_option("--thresholds", sweep.thresholds, "Non-linear thresholds: off or a value in (0,1] "
                                                           "(default: off,0.7)")
