@@ -400,7 +400,7 @@ struct ImplicitWorkspace {
   Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;  // sparse_lu
   // symmetric_ldlt: the symmetric part (A + A^T) / 2 is factorised as
   // C = P S P^T (its upper triangle), whose entries are gathered straight
-  // from A's values through c_from / c_from_t (SymmetricPart), so that no
+  // from A's values through c_from / c_from_t (analyse_symmetric_part), so that no
   // sparse expression is evaluated - and nothing allocated - per factorisation.
   PreorderedLdlt ldlt;
   Eigen::SparseMatrix<double> C;
@@ -867,12 +867,13 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
     const bool by_energy = w.statics && has_potential(model);
     const double e0 = by_energy ? potential_energy(model, w) : 0.0;
     double alpha = 1.0;
+    bool kept = true;
     for (int ls = 0;; ++ls) {
       w.v1 = w.v_trial + alpha * Eigen::Map<const Points>(w.delta.data(), 3, model.num_nodes());
       positions_from_velocities(model, c, joints, h, w);
       double scale = 0.0, trial_l2 = std::numeric_limits<double>::infinity();
       // An update that inverts a tet (keep_orientation) counts as no decrease.
-      const bool kept = orientation_kept(model, w);
+      kept = orientation_kept(model, w);
       const double trial = kept ? residual(model, s, c, joints, time, h, w, scratch, scale, trial_l2) : trial_l2;
       if (trial_l2 < l2 || ls == 10 || (by_energy && std::isfinite(trial_l2) && potential_energy(model, w) < e0)) {
         out.residual = trial;
@@ -881,6 +882,10 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
         break;
       }
       alpha *= 0.5;
+    }
+    if (!kept) {
+      out.why = "inverted a tet at every halving of its update (keep_orientation)";
+      return out;
     }
   }
   out.converged = true;
