@@ -66,7 +66,7 @@ msd::Keyframes<msd::Vec3> vector_keyframes(const Fields& f, const std::string& k
 
 msd::TissueMaterial material(const Fields& f) {
   f.only({"density", "youngs_modulus", "damping_time", "stiffness_scale", "repulsion_factor", "volume_factor",
-          "repulsion_floor"});
+          "repulsion_floor", "poisson_ratio"});
   msd::TissueMaterial m;
   m.mode = msd::ConstantsMode::Physical;
   m.density = number(f, "materials.*.density");
@@ -76,6 +76,7 @@ msd::TissueMaterial material(const Fields& f) {
   m.repulsion_factor = number(f, "materials.*.repulsion_factor");
   m.volume_factor = number(f, "materials.*.volume_factor");
   m.repulsion_floor = number(f, "materials.*.repulsion_floor");
+  if (f.has("poisson_ratio")) m.poisson_ratio = number(f, "materials.*.poisson_ratio");
   msd::check_material(m, f.where());
   return m;
 }
@@ -134,9 +135,6 @@ void read_run(const Fields& f, const std::string& path, LegScene& s) {
       } catch (const msd::Error& e) {
         throw msd::Error(f.where("terms") + e.what());
       }
-      if (t == "neo_hookean")
-        throw msd::Error(f.where("terms") + "neo_hookean needs a Poisson's ratio, which leg materials do not carry: "
-                                            "the continuum element runs in benchmark specs only");
     }
   }
   o.nonlinear_threshold = number(f, "nonlinear_threshold");
@@ -406,6 +404,11 @@ LegScene read_leg_scene(const std::string& path) {
   mats.only({"passive", "muscle", "skin"});
   s.model.passive = material(mats.section("passive"));
   s.model.muscle = material(mats.section("muscle"));
+  if (s.model.terms & (msd::kNeoHookean | msd::kBulk))
+    for (const auto& [name, m] : {std::pair{"passive", &s.model.passive}, std::pair{"muscle", &s.model.muscle}})
+      if (!m->poisson_ratio)
+        throw msd::Error(f.where("terms") + (s.model.terms & msd::kNeoHookean ? "neo_hookean" : "bulk") +
+                         " needs a Poisson's ratio: give materials." + name + ".poisson_ratio");
   if (const auto skin = mats.optional_section("skin")) {
     skin->only({"youngs_modulus", "thickness"});
     s.model.skin = msd::LegModelOptions::Skin{number(*skin, "materials.skin.youngs_modulus"),

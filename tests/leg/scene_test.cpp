@@ -256,12 +256,31 @@ TEST(LegScene, TheIntegratorAndItsNewtonSettingsAreReadAndMisuseIsRefused) {
                  dir + "/tolerance.yaml");
   e = error_of(f);
   EXPECT_NE(e.find("newton.tolerance"), std::string::npos) << e;
-  // The continuum element needs a Poisson's ratio, which leg materials do not carry: refused where it is named.
+  // The continuum element needs a Poisson's ratio in both materials: refused, naming the file, `terms` and the
+  // material that lacks it; read where both carry one; a ratio outside (-1, 0.5) is refused by its field.
   f = variant_of("drop", "dt: 2.0e-4", "dt: 2.0e-4\nterms: [neo_hookean, dampers, gravity]", dir + "/neo_hookean.yaml");
   e = error_of(f);
   EXPECT_NE(e.find("neo_hookean.yaml:"), std::string::npos) << e;
   EXPECT_NE(e.find("terms"), std::string::npos) << e;
-  EXPECT_NE(e.find("Poisson"), std::string::npos) << e;
+  EXPECT_NE(e.find("materials.passive.poisson_ratio"), std::string::npos) << e;
+  const std::string passive = "damping_time: 4.2e-3, repulsion_factor: 0.5, volume_factor: 1.6}";
+  const std::string with_nu = read_text(f);
+  std::string text = with_nu;
+  text.replace(text.find(passive), passive.size(), "damping_time: 4.2e-3, poisson_ratio: 0.495}");
+  std::ofstream(dir + "/neo_hookean_passive_only.yaml") << text;
+  e = error_of(dir + "/neo_hookean_passive_only.yaml");
+  EXPECT_NE(e.find("materials.muscle.poisson_ratio"), std::string::npos) << e;
+  text.replace(text.find(passive), passive.size(), "damping_time: 4.2e-3, poisson_ratio: 0.495}");
+  std::ofstream(dir + "/neo_hookean_both.yaml") << text;
+  const leg::LegScene both = leg::read_leg_scene(dir + "/neo_hookean_both.yaml");
+  EXPECT_TRUE(both.model.terms & msd::kNeoHookean);
+  EXPECT_EQ(both.model.passive.poisson_ratio, 0.495);
+  EXPECT_EQ(both.model.muscle.poisson_ratio, 0.495);
+  text.replace(text.find("poisson_ratio: 0.495"), 20, "poisson_ratio: 0.5");
+  std::ofstream(dir + "/neo_hookean_half.yaml") << text;
+  e = error_of(dir + "/neo_hookean_half.yaml");
+  EXPECT_NE(e.find("neo_hookean_half.yaml:"), std::string::npos) << e;
+  EXPECT_NE(e.find("poisson_ratio"), std::string::npos) << e;
 }
 
 TEST(LegScene, TheHillLawRealTendonsAndActivationDynamicsAreReadAndMisuseIsRefused) {

@@ -165,6 +165,7 @@ LimbMesh mesh_limb(const LimbSurfaces& s, const LimbMeshOptions& o) {
 
   GridMeshInfo info;
   out.mesh = split_cubes(out.grid, out.labels.label, &info);
+  out.tet_cube = std::move(info.tet_cube_id);
   out.mesh.nodes = out.rotation.transpose() * out.mesh.nodes;
   check_tet_mesh(out.mesh, "limb mesh");
   for (int l : out.labels.label) out.cubes += l >= 0 ? 1 : 0;

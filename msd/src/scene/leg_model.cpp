@@ -32,8 +32,12 @@ void attach_bone_nodes(const LimbMesh& m, LegModel& leg) {
 // would be crushed by any rotation of one about the other (the cubic mesh
 // leaves a single cube of passive tissue between condyles and plateau), so it
 // is left out - no tissue joins the two bones directly. Counts the tets left
-// out in leg.joint_space_tets.
-TetMesh tissue_without_joint_space(const LimbMesh& m, const LegModelOptions& o, LegModel& leg) {
+// out in leg.joint_space_tets. `cubes` gets each kept tet's grid cube (empty
+// when the mesh carries none).
+TetMesh tissue_without_joint_space(const LimbMesh& m, const LegModelOptions& o, LegModel& leg,
+                                   std::vector<long>& cubes) {
+  const bool has_cubes = m.tet_cube.size() == m.mesh.tets.size();
+  cubes.clear();
   const int n = m.mesh.num_nodes();
   TetMesh tissue_mesh = m.mesh;
   tissue_mesh.tets.clear();
@@ -68,6 +72,7 @@ TetMesh tissue_without_joint_space(const LimbMesh& m, const LegModelOptions& o, 
     }
     tissue_mesh.tets.push_back(m.mesh.tets[e]);
     tissue_mesh.region.push_back(m.mesh.region[e]);
+    if (has_cubes) cubes.push_back(m.tet_cube[e]);
   }
   // A squeezed tet stays if leaving it out would leave a node in no tet.
   std::vector<int> uses(static_cast<size_t>(n), 0);
@@ -78,6 +83,7 @@ TetMesh tissue_without_joint_space(const LimbMesh& m, const LegModelOptions& o, 
     if (std::any_of(t.begin(), t.end(), [&](int v) { return uses[static_cast<size_t>(v)] == 0; })) {
       tissue_mesh.tets.push_back(t);
       tissue_mesh.region.push_back(m.mesh.region[e]);
+      if (has_cubes) cubes.push_back(m.tet_cube[e]);
       for (int v : t) ++uses[static_cast<size_t>(v)];
     } else {
       ++leg.joint_space_tets;
@@ -87,8 +93,12 @@ TetMesh tissue_without_joint_space(const LimbMesh& m, const LegModelOptions& o, 
 }
 
 // The tissue model of the leg's tets: the scene's force terms, one material
-// per region label.
-Model tissue_model(const TetMesh& tissue_mesh, const LegModelOptions& o) {
+// per region label. With the continuum element (kNeoHookean), one volume
+// ratio per cube of the mesh's grid (mean dilatation,
+// msd/forces/stable_neo_hookean.hpp): five tets per cube each holding its own
+// volume would lock a nearly incompressible tissue (five constraints per
+// cube against three freedoms per node).
+Model tissue_model(const TetMesh& tissue_mesh, const std::vector<long>& cubes, const LegModelOptions& o) {
   ModelOptions mo;
   mo.terms = o.terms;
   mo.nonlinear_threshold = o.nonlinear_threshold;
@@ -99,6 +109,7 @@ Model tissue_model(const TetMesh& tissue_mesh, const LegModelOptions& o) {
   // Region labels 0..4: passive, front and back muscle, the bones (their tets
   // move rigidly; any material will do, passive tissue's is used).
   mo.region_materials = {o.passive, o.muscle, o.muscle, o.passive, o.passive};
+  if (o.terms & (kNeoHookean | kBulk)) mo.volume_group = cubes;
   return build_model(tissue_mesh, mo);
 }
 
@@ -334,8 +345,9 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
   check_material(o.muscle, "leg: muscle");
   LegModel leg;
   attach_bone_nodes(m, leg);
-  const TetMesh tissue_mesh = tissue_without_joint_space(m, o, leg);
-  leg.tissue = tissue_model(tissue_mesh, o);
+  std::vector<long> cubes;
+  const TetMesh tissue_mesh = tissue_without_joint_space(m, o, leg, cubes);
+  leg.tissue = tissue_model(tissue_mesh, cubes, o);
   build_knee(m, o, leg);
   build_strands(tendons, o, leg);
   leg.tendon_toe_strain = o.tendon_toe_strain;

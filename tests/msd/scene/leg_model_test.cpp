@@ -599,3 +599,49 @@ TEST(LegModel, TheSkinIsAClosedMembraneOnTheOuterSurfaceAndHoldsTheStandingThigh
   for (int k = 0; k < 10; ++k) msd::step_leg(leg, s, {}, 2e-3, scratch, msd::Integrator::Bdf2);
   EXPECT_TRUE(s.tissue.x.allFinite());
 }
+
+TEST(LegModel, TheContinuumLegTakesOneVolumeRatioPerCubeOfTheGrid) {
+  // Five tets per cube each holding its own volume would lock nearly
+  // incompressible tissue; the continuum element's groups are the grid's cubes.
+  const msd::LimbMesh& m = shipped().mesh;
+  ASSERT_EQ(m.tet_cube.size(), m.mesh.tets.size());
+  std::map<long, int> tets_of_cube;
+  for (long c : m.tet_cube) ++tets_of_cube[c];
+  EXPECT_EQ(static_cast<long>(tets_of_cube.size()), m.cubes);
+  for (const auto& [c, n] : tets_of_cube) EXPECT_EQ(n, 5) << "cube " << c;
+
+  msd::LegModelOptions o = options();
+  o.joint_space_radius = 0.09;
+  o.terms = msd::kNeoHookean | msd::kDampers | msd::kGravity;
+  o.passive.poisson_ratio = 0.495;
+  o.muscle.poisson_ratio = 0.495;
+  const msd::LegModel leg = msd::build_leg_model(m, shipped().tendons, o);
+  const msd::VolumeGroups& g = leg.tissue.volume_groups;
+  ASSERT_FALSE(g.empty());
+  ASSERT_EQ(g.of_tet.size(), leg.tets.size());
+  // As many groups as cubes with a tet left after the joint space; a group's
+  // tets are one cube's: at most five, one region, their centroids within the
+  // cube's diagonal of each other.
+  std::map<int, std::vector<size_t>> tets_of_group;
+  for (size_t t = 0; t < leg.tets.size(); ++t) tets_of_group[g.of_tet[t]].push_back(t);
+  EXPECT_EQ(static_cast<int>(tets_of_group.size()), g.size());
+  EXPECT_GT(g.size(), m.cubes - 100);
+  const double diagonal = std::sqrt(3.0) * 0.0245;
+  for (const auto& [group, tets] : tets_of_group) {
+    EXPECT_LE(tets.size(), 5u);
+    const msd::Vec3 first = [&] {
+      msd::Vec3 c = msd::Vec3::Zero();
+      for (int v : leg.tets[tets.front()]) c += 0.25 * leg.tissue.rest_positions.col(v);
+      return c;
+    }();
+    for (size_t t : tets) {
+      EXPECT_EQ(leg.tissue.elements[t].region, leg.tissue.elements[tets.front()].region);
+      msd::Vec3 c = msd::Vec3::Zero();
+      for (int v : leg.tets[t]) c += 0.25 * leg.tissue.rest_positions.col(v);
+      EXPECT_LT((c - first).norm(), diagonal) << "group " << group;
+    }
+  }
+  // The thesis' terms take no groups.
+  const msd::LegModel thesis = msd::build_leg_model(m, shipped().tendons, options());
+  EXPECT_TRUE(thesis.tissue.volume_groups.empty());
+}

@@ -61,6 +61,7 @@ struct PullReport {
 
 struct LimbMesh {
   TetMesh mesh;                              ///< nodes in the surfaces' frame, tets labelled by region
+  std::vector<long> tet_cube;                ///< per tet of `mesh`: its grid cube (GridMeshInfo::tet_cube_id)
   CubicGrid grid;                            ///< in the rotated frame
   Mat3 rotation{Mat3::Identity()};           ///< rotated frame = rotation * surfaces' frame
   RegionLabelling labels;
