@@ -222,7 +222,8 @@ void read_hip(const Fields& f, LegScene& s) {
 }
 
 void read_tendons(const Fields& t, LegScene& s) {
-  t.only({"modulus", "moduli", "strand_area", "insertions", "engage_at", "pretension", "toe_strain", "failure_strain"});
+  t.only({"modulus", "moduli", "strand_area", "insertions", "route", "engage_at", "pretension", "toe_strain",
+          "failure_strain"});
   msd::LegModelOptions& o = s.model;
   if (const auto m = t.optional_section("moduli")) {
     for (const auto& kv : m->node()) {
@@ -232,6 +233,7 @@ void read_tendons(const Fields& t, LegScene& s) {
   }
   if (t.has("engage_at")) s.tendons_engage_at = number(t, "tendons.engage_at");
   s.insert_at_path_end = tbio::read_choice(t, leg_scene_parameter("tendons.insertions")) == "path";
+  s.model.tendons_direct = tbio::read_choice(t, leg_scene_parameter("tendons.route")) == "direct";
   o.tendon_modulus = number(t, "tendons.modulus");
   o.strand_area = number(t, "tendons.strand_area");
   o.tendon_toe_strain = number(t, "tendons.toe_strain");

@@ -418,3 +418,15 @@ TEST(LegScene, TheSkinIsReadFromMaterialsAndANonPositiveOrPartialSkinIsRefused) 
   refused("  skin: {youngs_modulus: 129e3}\n", "skin_partial", "thickness");
   refused("  skin: {youngs_modulus: 129e3, thickness: 1.55e-3, density: 1100}\n", "skin_density", "density");
 }
+
+TEST(LegScene, TheTendonsRouteIsReadAndAnUnknownRouteIsRefused) {
+  const std::string dir = (fs::path(TB_TEST_OUTPUT_DIR) / "leg_scene_test").string();
+  EXPECT_FALSE(leg::read_leg_scene(scenes() + "hamstrings.yaml").model.tendons_direct);  // the thesis' default
+  std::string f = variant_of("hamstrings", "  strand_area: 2.0e-5", "  strand_area: 2.0e-5\n  route: direct",
+                             dir + "/route_direct.yaml");
+  EXPECT_TRUE(leg::read_leg_scene(f).model.tendons_direct);
+  f = variant_of("hamstrings", "  strand_area: 2.0e-5", "  strand_area: 2.0e-5\n  route: sheath", dir + "/route_bad.yaml");
+  const std::string e = error_of(f);
+  EXPECT_NE(e.find("route_bad.yaml:"), std::string::npos) << e;
+  EXPECT_NE(e.find("tendons.route"), std::string::npos) << e;
+}

@@ -138,8 +138,9 @@ void build_knee(const LimbMesh& m, const LegModelOptions& o, LegModel& leg) {
   check_hinge(leg.knee);
 }
 
-// The tendons' strands (thesis 5.3): bone ends anchored at the insertions
-// where given, natural lengths at rest, stiffness from each tendon's modulus.
+// The tendons' strands (thesis 5.3): through the route's tissue nodes or
+// direct, bone ends anchored at the insertions where given, natural lengths
+// at rest, stiffness from each tendon's modulus.
 void build_strands(const std::vector<TendonStrands>& tendons, const LegModelOptions& o, LegModel& leg) {
   if (!o.tendon_insertions.empty() && o.tendon_insertions.size() != tendons.size())
     throw Error("leg: " + std::to_string(o.tendon_insertions.size()) + " tendon insertions for " +
@@ -155,11 +156,12 @@ void build_strands(const std::vector<TendonStrands>& tendons, const LegModelOpti
     for (const auto& s : t.strands) {
       LegStrand ls;
       ls.nodes = s;
+      if (o.tendons_direct && s.size() > 2) ls.nodes = {s.front(), s.back()};
       ls.tendon = static_cast<int>(ti);
       if (ti < o.tendon_insertions.size() && o.tendon_insertions[ti]) {
         const int bone = leg.attached[static_cast<size_t>(s.back())];
         if (!bone) throw Error("leg: tendon '" + t.name + "' does not end on a bone node, so it cannot take an insertion");
-        if (s.size() < 2) throw Error("leg: tendon '" + t.name + "' has a strand of one node");
+        if (ls.nodes.size() < 2) throw Error("leg: tendon '" + t.name + "' has a strand of one node");
         ls.nodes.pop_back();
         ls.anchored = true;
         ls.anchor_bone = bone;

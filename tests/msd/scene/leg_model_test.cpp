@@ -645,3 +645,45 @@ TEST(LegModel, TheContinuumLegTakesOneVolumeRatioPerCubeOfTheGrid) {
   const msd::LegModel thesis = msd::build_leg_model(m, shipped().tendons, options());
   EXPECT_TRUE(thesis.tissue.volume_groups.empty());
 }
+
+TEST(LegModel, DirectTendonsRunStraightFromTheirMuscleNodeAndDragNoFleshNode) {
+  // tendons_direct: each strand is its muscle node and its bone end, nothing
+  // between - so a taut strand pulls only the muscle node and the bone, and
+  // its natural length is the straight distance.
+  msd::LegModelOptions o = options();
+  o.terms &= ~static_cast<unsigned>(msd::kGravity);
+  const msd::Vec3 insertion(0.0412, 0.0, 0.53046);
+  o.tendon_insertions = {std::nullopt, std::nullopt, std::nullopt, insertion};
+  const msd::LegModel routed = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  o.tendons_direct = true;
+  const msd::LegModel direct = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  ASSERT_EQ(direct.strands.size(), routed.strands.size());
+  int had_interior = 0;
+  for (size_t i = 0; i < direct.strands.size(); ++i) {
+    const msd::LegStrand& d = direct.strands[i];
+    const msd::LegStrand& r = routed.strands[i];
+    had_interior += r.nodes.size() > (r.anchored ? 1u : 2u);
+    EXPECT_EQ(d.nodes.front(), r.nodes.front());
+    EXPECT_EQ(d.anchored, r.anchored);
+    const msd::Vec3 from = direct.tissue.rest_positions.col(d.nodes.front());
+    if (d.anchored) {
+      ASSERT_EQ(d.nodes.size(), 1u);
+      EXPECT_NEAR(d.natural_length, (insertion - from).norm(), 1e-15);
+    } else {
+      ASSERT_EQ(d.nodes.size(), 2u);
+      EXPECT_EQ(d.nodes.back(), r.nodes.back());
+      EXPECT_NEAR(d.natural_length, (direct.tissue.rest_positions.col(d.nodes.back()) - from).norm(), 1e-15);
+    }
+  }
+  EXPECT_GT(had_interior, 0);  // the routed leg has strands through tissue nodes: the option changes something
+  // Shortened by 10 %: the knee cap's straight strands pull with E A 0.1
+  // each, in front of the knee's centre: they extend it.
+  msd::LegState s = msd::leg_rest_state(direct, 0.0);
+  msd::LegScratch scratch;
+  msd::LegControls c;
+  c.tendon_length_scale = {1.0, 1.0, 1.0, 0.9};
+  c.scripted_knee = msd::HingeState{0.0, 0.0};
+  msd::step_leg(direct, s, c, 1e-4, scratch);
+  EXPECT_NEAR(scratch.tendon_tension[3], 6 * o.tendon_modulus * o.strand_area * 0.1, 1e-9);
+  EXPECT_LT(scratch.knee_torque, 0.0);
+}

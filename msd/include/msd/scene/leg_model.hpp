@@ -72,6 +72,13 @@ struct LegModelOptions {
   /// anatomical insertion (a tendon path's last point), not the nearest mesh
   /// node (at 24.5 mm the knee cap has no node of its own).
   std::vector<std::optional<Vec3>> tendon_insertions;
+  /// false (the thesis, 4.5): each strand runs through the tissue nodes its
+  /// route snapped to, and drags them. true: straight from its muscle node to
+  /// its bone end (the insertion, or the bone node), with no node between -
+  /// a tendon slides in its sheath and bears on no flesh it passes; bent
+  /// through 24.5 mm flesh nodes, a real tendon's pull crushes the flesh at
+  /// the bend (docs/leg-motion.md, the physiological leg).
+  bool tendons_direct = false;
   /// Every strand's toe region (msd/forces/tendon.hpp): 0, the thesis' linear
   /// strand; real tendon about 0.02-0.03 with tendon_modulus about 1.2 GPa.
   double tendon_toe_strain = 0.0;
