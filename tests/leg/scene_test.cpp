@@ -8,9 +8,12 @@
 #include "tbio/results_file.hpp"
 #include "test_support.hpp"
 
+#include <yaml-cpp/yaml.h>
+
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -382,7 +385,22 @@ TEST(LegScene, TheIsometricKneeExperimentsReadOnTheAnatomicalLegWithRealTendonsA
   const std::string dir = std::string(TISSUEBENCH_DATA_DIR) + "/experiments/";
   const leg::LegScene front = leg::read_leg_scene(dir + "isometric_knee_front.yaml");
   const leg::LegScene back = leg::read_leg_scene(dir + "isometric_knee_back.yaml");
-  for (const leg::LegScene* s : {&front, &back}) {
+  // The same experiments on the physiological leg's constants: only the tissue, skin and routes differ.
+  const leg::LegScene front_p = leg::read_leg_scene(dir + "isometric_knee_front_physiological.yaml");
+  const leg::LegScene back_p = leg::read_leg_scene(dir + "isometric_knee_back_physiological.yaml");
+  for (const auto& [thesis, p] : {std::pair{&front, &front_p}, std::pair{&back, &back_p}}) {
+    EXPECT_EQ(p->model.terms, msd::kNeoHookean | msd::kDampers | msd::kGravity);
+    EXPECT_TRUE(p->model.tendons_direct);
+    EXPECT_TRUE(p->model.skin.has_value());
+    EXPECT_EQ(p->model.passive.youngs_modulus, 2990);
+    EXPECT_EQ(p->model.muscle.youngs_modulus, 14950);
+    EXPECT_EQ(p->geometry, thesis->geometry);
+    EXPECT_EQ(p->script_path, thesis->script_path);
+    EXPECT_EQ(p->model.front_pcsa, thesis->model.front_pcsa);
+    EXPECT_EQ(p->model.back_pcsa, thesis->model.back_pcsa);
+    EXPECT_EQ(p->knee_angle.values(), thesis->knee_angle.values());
+  }
+  for (const leg::LegScene* s : {&front, &back, &front_p, &back_p}) {
     EXPECT_EQ(fs::path(s->geometry).parent_path().filename(), "leg_anatomical") << s->geometry;
     EXPECT_DOUBLE_EQ(s->model.tendon_modulus, 1.2e9);
     EXPECT_DOUBLE_EQ(s->model.max_muscle_stress, 2.7e5);
@@ -429,4 +447,65 @@ TEST(LegScene, TheTendonsRouteIsReadAndAnUnknownRouteIsRefused) {
   const std::string e = error_of(f);
   EXPECT_NE(e.find("route_bad.yaml:"), std::string::npos) << e;
   EXPECT_NE(e.find("tendons.route"), std::string::npos) << e;
+}
+
+TEST(LegScene, ThePhysiologicalScenesAreTheTunedOnesOnTheMaterialsFilesConstants) {
+  // msd/data/physiological: the same ten scenes as msd/data/scenes (set-up,
+  // scripts, obstacles, variants), every constant the materials file's or a
+  // cited published one (docs/leg-motion.md, "The physiological leg").
+  const YAML::Node materials = YAML::LoadFile(std::string(TISSUEBENCH_DATA_DIR) + "/../../benchmarks/materials.yaml");
+  const auto constant = [&](const char* material, const char* key) { return materials[material][key].as<double>(); };
+  std::vector<std::string> tuned_names, names;
+  for (const auto& e : fs::directory_iterator(scenes())) tuned_names.push_back(e.path().stem().string());
+  for (const auto& e : fs::directory_iterator(std::string(TISSUEBENCH_DATA_DIR) + "/physiological"))
+    names.push_back(e.path().stem().string());
+  std::sort(tuned_names.begin(), tuned_names.end());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, tuned_names);
+  EXPECT_EQ(names.size(), 10u);
+  const msd::LegDimensions d;
+  for (const std::string& name : names) {
+    SCOPED_TRACE(name);
+    const leg::LegScene tuned = leg::read_leg_scene(scenes() + name + ".yaml");
+    const leg::LegScene s = leg::read_leg_scene(std::string(TISSUEBENCH_DATA_DIR) + "/physiological/" + name + ".yaml");
+    // The same experiment.
+    EXPECT_EQ(s.name, tuned.name);
+    EXPECT_EQ(s.duration, tuned.duration);
+    EXPECT_EQ(s.model.gravity, tuned.model.gravity);
+    EXPECT_EQ(s.knee_angle.times(), tuned.knee_angle.times());
+    EXPECT_EQ(s.knee_angle.values(), tuned.knee_angle.values());
+    EXPECT_EQ(s.knee_release, tuned.knee_release);
+    EXPECT_EQ(fs::path(s.script_path).filename(), fs::path(tuned.script_path).filename());
+    EXPECT_EQ(s.variants.size(), tuned.variants.size());
+    EXPECT_EQ(s.model.obstacles.size(), tuned.model.obstacles.size());
+    EXPECT_EQ(s.hip.has_value(), tuned.hip.has_value());
+    // On the anatomical leg, in the continuum element at the materials file's constants.
+    EXPECT_EQ(fs::path(s.geometry).parent_path().filename(), "leg_anatomical") << s.geometry;
+    EXPECT_EQ(s.model.terms, msd::kNeoHookean | msd::kDampers | msd::kGravity);
+    const std::pair<const msd::TissueMaterial*, const char*> pairs[] = {{&s.model.passive, "non_muscular_tissue"},
+                                                                        {&s.model.muscle, "passive_muscle"}};
+    for (const auto& [m, key] : pairs) {
+      EXPECT_EQ(m->density, constant(key, "density")) << key;
+      EXPECT_EQ(m->youngs_modulus, constant(key, "youngs_modulus")) << key;
+      EXPECT_EQ(m->poisson_ratio, constant(key, "poisson_ratio")) << key;
+      EXPECT_EQ(m->damping_time, constant(key, "damping_time")) << key;
+      EXPECT_EQ(m->stiffness_scale, 1.0) << key;
+    }
+    ASSERT_TRUE(s.model.skin.has_value());
+    EXPECT_EQ(s.model.skin->youngs_modulus, constant("skin", "youngs_modulus"));
+    EXPECT_EQ(s.model.skin->thickness, constant("skin", "thickness"));
+    // Real tendons, none softened, routed straight; Hill muscles at a published specific tension and PCSA.
+    EXPECT_EQ(s.model.tendon_modulus, constant("tendon", "youngs_modulus"));
+    EXPECT_TRUE(s.model.tendon_moduli.empty());
+    EXPECT_EQ(s.model.tendon_toe_strain, 0.02);
+    EXPECT_TRUE(s.model.tendons_direct);
+    EXPECT_TRUE(s.model.hill.enabled);
+    EXPECT_EQ(s.model.max_muscle_stress, 2.7e5);
+    ASSERT_TRUE(s.model.front_pcsa && s.model.back_pcsa);
+    EXPECT_NEAR(*s.model.front_pcsa, msd::group_pcsa(d.quadriceps, 1.756, 85.5), 0.005 * *s.model.front_pcsa);
+    EXPECT_NEAR(*s.model.back_pcsa, msd::group_pcsa(d.hamstrings, 1.756, 85.5), 0.01 * *s.model.back_pcsa);
+    EXPECT_EQ(s.model.activation_time, 0.01);  // Zajac 1989
+    EXPECT_EQ(s.model.deactivation_time, 0.04);
+    EXPECT_EQ(s.integrator, msd::Integrator::Bdf2);
+  }
 }

@@ -2,67 +2,16 @@
 // file, with its outcome asserted: what the thesis' experiment (6.1-6.7)
 // showed, or for drop.yaml and wobble.yaml what a real leg does. Results stay
 // in build/leg_scenes/NAME to look at (leg.xdmf opens in ParaView).
-#include "leg/run.hpp"
-#include "leg/scene.hpp"
-#include "tbio/results_file.hpp"
+#include "scene_run.hpp"
 
-#include <gtest/gtest.h>
-
-#include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <string>
 
 namespace {
 
-namespace fs = std::filesystem;
+using testing_support::SceneRun;
 
-struct SceneRun {
-  leg::LegScene scene;
-  std::vector<leg::LegRunSummary> runs;
-  tbio::Results results;  ///< the first run's leg.h5
-  const leg::LegRunSummary& summary() const { return runs.front(); }
-  double value(const std::string& key) const {
-    const auto it = summary().values.find(key);
-    if (it == summary().values.end()) throw std::runtime_error("no summary value " + key);
-    return it->second;
-  }
-  const std::vector<double>& series(const std::string& name) const { return results.series.at(name); }
-  /// The series' value at time t (the frame closest to it).
-  double at(const std::string& name, double t) const {
-    const auto& time = series("time");
-    const size_t k = static_cast<size_t>(std::min_element(time.begin(), time.end(),
-                                                          [&](double a, double b) {
-                                                            return std::abs(a - t) < std::abs(b - t);
-                                                          }) -
-                                         time.begin());
-    return series(name)[k];
-  }
-  /// Extremes of a series over [t0, t1].
-  std::pair<double, double> range(const std::string& name, double t0, double t1) const {
-    double lo = 1e300, hi = -1e300;
-    const auto& time = series("time");
-    for (size_t k = 0; k < time.size(); ++k)
-      if (time[k] >= t0 - 1e-9 && time[k] <= t1 + 1e-9) {
-        lo = std::min(lo, series(name)[k]);
-        hi = std::max(hi, series(name)[k]);
-      }
-    return {lo, hi};
-  }
-};
-
-SceneRun run(const std::string& name) {
-  SceneRun r;
-  r.scene = leg::read_leg_scene(std::string(TISSUEBENCH_DATA_DIR) + "/scenes/" + name + ".yaml");
-  r.scene.obj_every = 0;  // the fast suite checks the OBJ frames
-  const std::string dir = (fs::path(TB_TEST_OUTPUT_DIR) / "leg_scenes" / name).string();
-  r.runs = leg::run_leg_scene(r.scene, dir);
-  for (const auto& s : r.runs) EXPECT_EQ(s.status, "complete") << s.failure;
-  r.results = tbio::read_results((fs::path(r.runs.front().dir) / "leg.h5").string());
-  EXPECT_EQ(r.results.status(), "complete");
-  std::printf("%s", leg::format_leg_summary(r.summary()).c_str());
-  return r;
-}
+SceneRun run(const std::string& name) { return testing_support::run_scene("scenes", name, "leg_scenes"); }
 
 }  // namespace
 
