@@ -7,7 +7,7 @@ physiological leg").
 
 Each DIR holds one folder per scene as `tissuebench leg SCENE.yaml --out
 DIR/SCENE` writes it (DIR/SCENE/leg.csv; a scene with variants: its first
-variant's folder). A scene missing from a folder, or a run that failed
+variant's folder, in the order of DIR/SCENE/summary.json). A scene missing from a folder, or a run that failed
 (summary.json status other than complete), is drawn as far as its leg.csv goes
 and marked in the legend. Debian's python3-matplotlib; no pip.
 """
@@ -25,12 +25,20 @@ SCENES = ["gravity", "pretension", "external_object", "hamstrings", "quadriceps"
           "swing", "wobble"]
 
 
+def read_json(path):
+    with open(path) as f:
+        return json.load(f)
+
+
 def run_folder(root, scene):
+    """The scene's run folder; for a scene with variants, its first variant's
+    (the order of the index DIR/SCENE/summary.json, which is the scene's)."""
     d = os.path.join(root, scene)
     if os.path.isfile(os.path.join(d, "leg.csv")):
         return d
-    if os.path.isdir(d):
-        for v in sorted(os.listdir(d)):
+    index = os.path.join(d, "summary.json")
+    if os.path.isfile(index):
+        for v in read_json(index).get("variants", {}):
             if os.path.isfile(os.path.join(d, v, "leg.csv")):
                 return os.path.join(d, v)
     return None
@@ -48,7 +56,7 @@ def knee_curve(root, scene):
             a.append(float(row["knee_angle"]))
     status = "?"
     if os.path.isfile(os.path.join(d, "summary.json")):
-        s = json.load(open(os.path.join(d, "summary.json")))
+        s = read_json(os.path.join(d, "summary.json"))
         status = s.get("status", "?")
         if status != "complete":
             status = "failed at %.2f s" % s.get("simulated_seconds", t[-1] if t else 0.0)
@@ -62,7 +70,7 @@ def main(argv):
     tuned, phys, out = argv[1:]
     fig, axes = plt.subplots(5, 2, figsize=(10, 13), sharex=False)
     for ax, scene in zip(axes.flat, SCENES):
-        for root, label, style in ((tuned, "thesis' tuned constants", "-"), (phys, "physiological", "-")):
+        for root, label, style in ((tuned, "thesis' tuned constants", "-"), (phys, "physiological", "--")):
             c = knee_curve(root, scene)
             if c is None:
                 ax.plot([], [], style, label=label + " (no run)")

@@ -279,6 +279,12 @@ TEST(LegScene, TheIntegratorAndItsNewtonSettingsAreReadAndMisuseIsRefused) {
   EXPECT_TRUE(both.model.terms & msd::kNeoHookean);
   EXPECT_EQ(both.model.passive.poisson_ratio, 0.495);
   EXPECT_EQ(both.model.muscle.poisson_ratio, 0.495);
+  // The lattice's bulk term is not a leg term: refused where it is named.
+  f = variant_of("drop", "dt: 2.0e-4", "dt: 2.0e-4\nterms: [springs, dampers, bulk, gravity]", dir + "/bulk.yaml");
+  e = error_of(f);
+  EXPECT_NE(e.find("bulk.yaml:"), std::string::npos) << e;
+  EXPECT_NE(e.find("terms"), std::string::npos) << e;
+  EXPECT_NE(e.find("bulk"), std::string::npos) << e;
   text.replace(text.find("poisson_ratio: 0.495"), 20, "poisson_ratio: 0.5");
   std::ofstream(dir + "/neo_hookean_half.yaml") << text;
   e = error_of(dir + "/neo_hookean_half.yaml");
@@ -479,6 +485,16 @@ TEST(LegScene, ThePhysiologicalScenesAreTheTunedOnesOnTheMaterialsFilesConstants
     EXPECT_EQ(s.variants.size(), tuned.variants.size());
     EXPECT_EQ(s.model.obstacles.size(), tuned.model.obstacles.size());
     EXPECT_EQ(s.hip.has_value(), tuned.hip.has_value());
+    // The model choices kept from the tuned scene (each file's header lists them).
+    EXPECT_EQ(s.model.strand_area, tuned.model.strand_area);
+    EXPECT_EQ(s.model.joint_damping, tuned.model.joint_damping);
+    EXPECT_EQ(s.model.limit_stiffness, tuned.model.limit_stiffness);
+    EXPECT_EQ(s.model.passive_lo, tuned.model.passive_lo);
+    EXPECT_EQ(s.model.passive_hi, tuned.model.passive_hi);
+    EXPECT_EQ(s.model.min_flexion, tuned.model.min_flexion);
+    EXPECT_EQ(s.model.max_flexion, tuned.model.max_flexion);
+    EXPECT_EQ(s.model.joint_space_radius, tuned.model.joint_space_radius);
+    EXPECT_EQ(s.model.knee_contact_box, tuned.model.knee_contact_box);
     // On the anatomical leg, in the continuum element at the materials file's constants.
     EXPECT_EQ(fs::path(s.geometry).parent_path().filename(), "leg_anatomical") << s.geometry;
     EXPECT_EQ(s.model.terms, msd::kNeoHookean | msd::kDampers | msd::kGravity);

@@ -109,7 +109,12 @@ Model tissue_model(const TetMesh& tissue_mesh, const std::vector<long>& cubes, c
   // Region labels 0..4: passive, front and back muscle, the bones (their tets
   // move rigidly; any material will do, passive tissue's is used).
   mo.region_materials = {o.passive, o.muscle, o.muscle, o.passive, o.passive};
-  if (o.terms & (kNeoHookean | kBulk)) mo.volume_group = cubes;
+  if (o.terms & kNeoHookean) {
+    if (cubes.size() != tissue_mesh.tets.size())
+      throw Error("leg: the continuum element needs the mesh's grid cube of every tet (LimbMesh::tet_cube), one "
+                  "volume ratio per cube; this mesh has none (one per tet would lock the nearly incompressible tissue)");
+    mo.volume_group = cubes;
+  }
   return build_model(tissue_mesh, mo);
 }
 

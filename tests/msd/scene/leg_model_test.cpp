@@ -644,6 +644,16 @@ TEST(LegModel, TheContinuumLegTakesOneVolumeRatioPerCubeOfTheGrid) {
   // The thesis' terms take no groups.
   const msd::LegModel thesis = msd::build_leg_model(m, shipped().tendons, options());
   EXPECT_TRUE(thesis.tissue.volume_groups.empty());
+  // A mesh without its tets' cubes is refused for the continuum element, not run one ratio per tet.
+  msd::LimbMesh without = m;
+  without.tet_cube.clear();
+  try {
+    msd::build_leg_model(without, shipped().tendons, o);
+    ADD_FAILURE() << "a continuum leg without cubes was built";
+  } catch (const msd::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cube"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(msd::build_leg_model(without, shipped().tendons, options()));  // the thesis' terms need none
 }
 
 TEST(LegModel, DirectTendonsRunStraightFromTheirMuscleNodeAndDragNoFleshNode) {
