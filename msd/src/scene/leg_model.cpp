@@ -42,6 +42,11 @@ TetMesh tissue_without_joint_space(const LimbMesh& m, const LegModelOptions& o, 
   TetMesh tissue_mesh = m.mesh;
   tissue_mesh.tets.clear();
   tissue_mesh.region.clear();
+  auto keep = [&](size_t e) {  // tet e of m stays, with its region and cube
+    tissue_mesh.tets.push_back(m.mesh.tets[e]);
+    tissue_mesh.region.push_back(m.mesh.region[e]);
+    if (has_cubes) cubes.push_back(m.tet_cube[e]);
+  };
   std::vector<unsigned> near_bone(static_cast<size_t>(n), 0);  // bones a node shares a tet with
   for (const Tet& t : m.mesh.tets) {
     unsigned b = 0;
@@ -70,9 +75,7 @@ TetMesh tissue_without_joint_space(const LimbMesh& m, const LegModelOptions& o, 
       squeezed_tets.push_back(e);
       continue;
     }
-    tissue_mesh.tets.push_back(m.mesh.tets[e]);
-    tissue_mesh.region.push_back(m.mesh.region[e]);
-    if (has_cubes) cubes.push_back(m.tet_cube[e]);
+    keep(e);
   }
   // A squeezed tet stays if leaving it out would leave a node in no tet.
   std::vector<int> uses(static_cast<size_t>(n), 0);
@@ -81,9 +84,7 @@ TetMesh tissue_without_joint_space(const LimbMesh& m, const LegModelOptions& o, 
   for (size_t e : squeezed_tets) {
     const Tet& t = m.mesh.tets[e];
     if (std::any_of(t.begin(), t.end(), [&](int v) { return uses[static_cast<size_t>(v)] == 0; })) {
-      tissue_mesh.tets.push_back(t);
-      tissue_mesh.region.push_back(m.mesh.region[e]);
-      if (has_cubes) cubes.push_back(m.tet_cube[e]);
+      keep(e);
       for (int v : t) ++uses[static_cast<size_t>(v)];
     } else {
       ++leg.joint_space_tets;

@@ -42,6 +42,27 @@ msd::LegModelOptions options() {
   return o;
 }
 
+// The knee cap's tendon's insertion on the lower bone (tendon 3, front_lower).
+const msd::Vec3 kKneeCapInsertion(0.0412, 0.0, 0.53046);
+
+// options() without gravity, the knee cap's tendon inserted at kKneeCapInsertion.
+msd::LegModelOptions knee_cap_inserted() {
+  msd::LegModelOptions o = options();
+  o.terms &= ~static_cast<unsigned>(msd::kGravity);
+  o.tendon_insertions = {std::nullopt, std::nullopt, std::nullopt, kKneeCapInsertion};
+  return o;
+}
+
+// One step of `leg` from rest, the knee held straight and the knee cap's
+// tendon shortened by 10 %; its tension and the knee's torque in `scratch`.
+void step_with_the_knee_cap_tendon_shortened(const msd::LegModel& leg, msd::LegScratch& scratch) {
+  msd::LegState s = msd::leg_rest_state(leg, 0.0);
+  msd::LegControls c;
+  c.tendon_length_scale = {1.0, 1.0, 1.0, 0.9};
+  c.scripted_knee = msd::HingeState{0.0, 0.0};
+  msd::step_leg(leg, s, c, 1e-4, scratch);
+}
+
 }  // namespace
 
 TEST(LegModel, BonesOwnTheirNodesAndTheKneeCarriesTheLowerLegsInertia) {
@@ -233,10 +254,8 @@ TEST(LegModel, AnchoredTendonsEndAtTheirInsertionAndTurnTheKneeThroughIt) {
   // The knee cap's tendon (front_lower) inserted at a point on the lower bone
   // instead of its last node: the strand runs to the point, its natural length
   // includes it, and a shortened strand pulls the point - a torque about the knee.
-  msd::LegModelOptions o = options();
-  o.terms &= ~static_cast<unsigned>(msd::kGravity);
-  const msd::Vec3 insertion(0.0412, 0.0, 0.53046);
-  o.tendon_insertions = {std::nullopt, std::nullopt, std::nullopt, insertion};
+  msd::LegModelOptions o = knee_cap_inserted();
+  const msd::Vec3& insertion = kKneeCapInsertion;
   const msd::LegModel leg = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
   int anchored = 0;
   for (const msd::LegStrand& s : leg.strands) {
@@ -272,12 +291,8 @@ TEST(LegModel, AnchoredTendonsEndAtTheirInsertionAndTurnTheKneeThroughIt) {
   EXPECT_EQ(anchored, 6);
   // Shortened by 10 %: 6 strands pull E A 0.1 each; the point lies in front
   // of the knee's centre and the pull runs up the thigh, so it extends the knee.
-  msd::LegState s = msd::leg_rest_state(leg, 0.0);
   msd::LegScratch scratch;
-  msd::LegControls c;
-  c.tendon_length_scale = {1.0, 1.0, 1.0, 0.9};
-  c.scripted_knee = msd::HingeState{0.0, 0.0};
-  msd::step_leg(leg, s, c, 1e-4, scratch);
+  step_with_the_knee_cap_tendon_shortened(leg, scratch);
   EXPECT_NEAR(scratch.tendon_tension[3], 6 * o.tendon_modulus * o.strand_area * 0.1, 1e-9);
   EXPECT_LT(scratch.knee_torque, 0.0);
   // An insertion list of the wrong length is refused.
@@ -660,10 +675,8 @@ TEST(LegModel, DirectTendonsRunStraightFromTheirMuscleNodeAndDragNoFleshNode) {
   // tendons_direct: each strand is its muscle node and its bone end, nothing
   // between - so a taut strand pulls only the muscle node and the bone, and
   // its natural length is the straight distance.
-  msd::LegModelOptions o = options();
-  o.terms &= ~static_cast<unsigned>(msd::kGravity);
-  const msd::Vec3 insertion(0.0412, 0.0, 0.53046);
-  o.tendon_insertions = {std::nullopt, std::nullopt, std::nullopt, insertion};
+  msd::LegModelOptions o = knee_cap_inserted();
+  const msd::Vec3& insertion = kKneeCapInsertion;
   const msd::LegModel routed = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
   o.tendons_direct = true;
   const msd::LegModel direct = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
@@ -688,12 +701,8 @@ TEST(LegModel, DirectTendonsRunStraightFromTheirMuscleNodeAndDragNoFleshNode) {
   EXPECT_GT(had_interior, 0);  // the routed leg has strands through tissue nodes: the option changes something
   // Shortened by 10 %: the knee cap's straight strands pull with E A 0.1
   // each, in front of the knee's centre: they extend it.
-  msd::LegState s = msd::leg_rest_state(direct, 0.0);
   msd::LegScratch scratch;
-  msd::LegControls c;
-  c.tendon_length_scale = {1.0, 1.0, 1.0, 0.9};
-  c.scripted_knee = msd::HingeState{0.0, 0.0};
-  msd::step_leg(direct, s, c, 1e-4, scratch);
+  step_with_the_knee_cap_tendon_shortened(direct, scratch);
   EXPECT_NEAR(scratch.tendon_tension[3], 6 * o.tendon_modulus * o.strand_area * 0.1, 1e-9);
   EXPECT_LT(scratch.knee_torque, 0.0);
 }
