@@ -225,7 +225,7 @@ void read_hip(const Fields& f, LegScene& s) {
 }
 
 void read_tendons(const Fields& t, LegScene& s) {
-  t.only({"modulus", "moduli", "strand_area", "insertions", "route", "engage_at", "pretension", "toe_strain",
+  t.only({"modulus", "moduli", "strand_area", "insertions", "route", "attach", "engage_at", "pretension", "toe_strain",
           "failure_strain"});
   msd::LegModelOptions& o = s.model;
   if (const auto m = t.optional_section("moduli")) {
@@ -237,6 +237,10 @@ void read_tendons(const Fields& t, LegScene& s) {
   if (t.has("engage_at")) s.tendons_engage_at = number(t, "tendons.engage_at");
   s.insert_at_path_end = tbio::read_choice(t, leg_scene_parameter("tendons.insertions")) == "path";
   s.model.tendons_direct = tbio::read_choice(t, leg_scene_parameter("tendons.route")) == "direct";
+  s.model.tendons_at_fibre_ends = tbio::read_choice(t, leg_scene_parameter("tendons.attach")) == "fibre_ends";
+  if (s.model.tendons_at_fibre_ends && !s.model.tendons_direct)
+    throw msd::Error(t.where("attach") + "fibre_ends needs route: direct (a strand from every fibre end cannot run "
+                     "through the path's tissue nodes)");
   o.tendon_modulus = number(t, "tendons.modulus");
   o.strand_area = number(t, "tendons.strand_area");
   o.tendon_toe_strain = number(t, "tendons.toe_strain");

@@ -80,6 +80,7 @@ std::vector<Parameter> declare() {
       number("tendons.failure_strain", "1", 0.1, Range::open(0, 1), "the summary warns when a strand's strain passes it (tendon fails at about 8-10 % strain, Butler et al. 1978; Wren et al. 2001)"),
       choice("tendons.insertions", {"path", "nodes"}, "path", "bone ends at the paths' last points, or at the bone node the route reached (the thesis)"),
       choice("tendons.route", {"tissue", "direct"}, "tissue", "tissue: each strand runs through the tissue nodes its path snapped to and drags them (the thesis, 4.5); direct: straight from its muscle node to its bone end - a tendon slides in its sheath and bears on no flesh it passes"),
+      choice("tendons.attach", {"patch", "fibre_ends"}, "patch", "patch: each tendon's strands leave the muscle nodes nearest its path's start (the thesis); fibre_ends: an aponeurosis - one strand from every end of the muscle's fibres on the tendon's side, sharing the tendon's section (strands x strand_area); needs route: direct"),
       optional_number("tendons.engage_at", "s", non_negative, "slack until then; then natural length = the path's length"),
       number("tendons.pretension.fraction", "1", std::nullopt, Range::closed_open(0, 1), "L0 -> (1 - fraction) L0"),
       number("tendons.pretension.start", "s", 0.0, non_negative, "when the pre-tension ramp starts"),

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -28,6 +29,26 @@ std::vector<ContractileUnit> contractile_units(const TetMesh& mesh, int region, 
     }
   }
   return units;
+}
+
+std::vector<int> fibre_end_nodes(const Points& x, const std::vector<ContractileUnit>& units, const Vec3& direction,
+                                 int side) {
+  if (!(direction.norm() > 0.0) || !direction.allFinite()) throw Error("muscle: the line of action must be a nonzero vector");
+  if (side != 1 && side != -1) throw Error("muscle: a fibre end's side must be +1 or -1");
+  const Vec3 d = static_cast<double>(side) * direction.normalized();
+  // Per node: whether a unit leaves it along +d (onward) and against it (back).
+  std::map<int, std::pair<bool, bool>> at;
+  for (const ContractileUnit& u : units) {
+    const double s = (x.col(u.b) - x.col(u.a)).dot(d);
+    if (s == 0.0) continue;  // across the line of action: neither way (not a unit within 90 degrees)
+    const int ahead = s > 0.0 ? u.b : u.a, behind = s > 0.0 ? u.a : u.b;
+    at[behind].first = true;
+    at[ahead].second = true;
+  }
+  std::vector<int> ends;
+  for (const auto& [node, ways] : at)
+    if (ways.second && !ways.first) ends.push_back(node);
+  return ends;
 }
 
 double unit_force(const TetMesh& mesh, int region, const std::vector<ContractileUnit>& units, const Vec3& direction,

@@ -144,6 +144,38 @@ void build_knee(const LimbMesh& m, const LegModelOptions& o, LegModel& leg) {
   check_hinge(leg.knee);
 }
 
+// An aponeurosis (LegModelOptions::tendons_at_fibre_ends): tendon t's strands
+// from every fibre end of its muscle on its side - the side its patch (the
+// first strand's muscle node) lies on, from the muscle's middle along its line
+// of action - to its bone end, each of `area` = the patch's section over the
+// number of ends (area comes in as one strand's section). Fibre ends on a bone
+// are left out. Needs the muscles' units (build_muscles).
+std::vector<std::vector<int>> fibre_end_strands(const TendonStrands& t, const std::vector<TendonStrands>& tendons,
+                                                const LegModelOptions& o, const LegModel& leg, double& area) {
+  const bool front = t.muscle == kFrontMuscle;
+  if (!front && t.muscle != kBackMuscle) throw Error("leg: tendon '" + t.name + "' does not leave a muscle");
+  const std::vector<ContractileUnit>& units = front ? leg.front_units : leg.back_units;
+  const Vec3 d = (front ? o.front_line : o.back_line).normalized();
+  const Points& x = leg.tissue.rest_positions;
+  if (units.empty() || t.strands.empty()) throw Error("leg: tendon '" + t.name + "': its muscle has no units to attach to");
+  double middle = 0.0;
+  for (const ContractileUnit& u : units) middle += 0.5 * (x.col(u.a) + x.col(u.b)).dot(d);
+  middle /= static_cast<double>(units.size());
+  auto side_of = [&](const TendonStrands& other) { return x.col(other.strands.front().front()).dot(d) > middle ? 1 : -1; };
+  const int side = side_of(t);
+  for (const TendonStrands& other : tendons)
+    if (&other != &t && other.muscle == t.muscle && !other.strands.empty() && side_of(other) == side)
+      throw Error("leg: tendons '" + t.name + "' and '" + other.name +
+                  "' leave the same end of their muscle, so the fibre ends cannot be shared between them");
+  std::vector<std::vector<int>> strands;
+  const int bone_end = t.strands.front().back();
+  for (int v : fibre_end_nodes(x, units, d, side))
+    if (!leg.attached[static_cast<size_t>(v)]) strands.push_back({v, bone_end});
+  if (strands.empty()) throw Error("leg: tendon '" + t.name + "': its muscle has no free fibre end on its side");
+  area *= static_cast<double>(t.strands.size()) / static_cast<double>(strands.size());
+  return strands;
+}
+
 // The tendons' strands (thesis 5.3): through the route's tissue nodes or
 // direct, bone ends anchored at the insertions where given, natural lengths
 // at rest, stiffness from each tendon's modulus.
@@ -156,10 +188,15 @@ void build_strands(const std::vector<TendonStrands>& tendons, const LegModelOpti
     if (std::none_of(tendons.begin(), tendons.end(), [&](const TendonStrands& t) { return t.name == name; }))
       throw Error("leg: a modulus is given for tendon '" + name + "', which the leg does not have");
   }
+  if (o.tendons_at_fibre_ends && !o.tendons_direct)
+    throw Error("leg: tendons attached at the fibre ends need the direct route (a strand from every fibre end cannot "
+                "run through the path's tissue nodes)");
   for (const TendonStrands& t : tendons) {
     leg.tendon_names.push_back(t.name);
     const size_t ti = leg.tendon_names.size() - 1;
-    for (const auto& s : t.strands) {
+    double area = o.strand_area;
+    const std::vector<std::vector<int>> strands = o.tendons_at_fibre_ends ? fibre_end_strands(t, tendons, o, leg, area) : t.strands;
+    for (const auto& s : strands) {
       LegStrand ls;
       ls.nodes = s;
       if (o.tendons_direct && s.size() > 2) ls.nodes = {s.front(), s.back()};
@@ -176,7 +213,7 @@ void build_strands(const std::vector<TendonStrands>& tendons, const LegModelOpti
       ls.natural_length = leg_strand_length(leg, ls, leg.tissue.rest_positions, 0.0);
       if (!(ls.natural_length > 0.0)) throw Error("leg: tendon '" + t.name + "' has a strand of zero length");
       const auto mod = o.tendon_moduli.find(t.name);
-      ls.k_t = tendon_stiffness(mod != o.tendon_moduli.end() ? mod->second : o.tendon_modulus, o.strand_area,
+      ls.k_t = tendon_stiffness(mod != o.tendon_moduli.end() ? mod->second : o.tendon_modulus, area,
                                 ls.natural_length);
       leg.strands.push_back(ls);
     }
@@ -357,6 +394,7 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
   const TetMesh tissue_mesh = tissue_without_joint_space(m, o, leg, cubes);
   leg.tissue = tissue_model(tissue_mesh, cubes, o);
   build_knee(m, o, leg);
+  build_muscles(m, o, leg);  // before the strands: an aponeurosis attaches at the muscles' fibre ends
   build_strands(tendons, o, leg);
   leg.tendon_toe_strain = o.tendon_toe_strain;
   leg.tets = tissue_mesh.tets;
@@ -371,7 +409,6 @@ LegModel build_leg_model(const LimbMesh& m, const std::vector<TendonStrands>& te
       throw Error(std::string("leg: ") + e.what());
     }
   }
-  build_muscles(m, o, leg);
   leg.leg_axis = o.leg_axis.normalized();
   set_passive_joint(o, leg);
   compile_parts(leg);

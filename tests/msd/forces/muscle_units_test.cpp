@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
+#include <set>
 
 namespace {
 
@@ -34,6 +36,48 @@ TEST(MuscleUnits, UnitsAreTheEdgesAlongTheLineOfAction) {
   EXPECT_TRUE(msd::contractile_units(m, msd::kFrontMuscle, msd::Vec3::UnitZ(), 10.0).empty());
   EXPECT_THROW(msd::contractile_units(m, msd::kBackMuscle, msd::Vec3::Zero(), 10.0), msd::Error);
   EXPECT_THROW(msd::contractile_units(m, msd::kBackMuscle, msd::Vec3::UnitZ(), 95.0), msd::Error);
+}
+
+TEST(MuscleUnits, TheFibreEndsAreTheNodesNoUnitContinuesBeyond) {
+  // The box's units along z are its grid's columns (the fibres); each column
+  // ends once at the top and once at the bottom.
+  const msd::TetMesh m = muscle_box();
+  auto units = msd::contractile_units(m, msd::kBackMuscle, msd::Vec3::UnitZ(), 10.0);
+  double lo = 1e9, hi = -1e9;
+  std::set<std::pair<long, long>> columns;
+  for (const auto& u : units)
+    for (int v : {u.a, u.b}) {
+      lo = std::min(lo, m.nodes(2, v));
+      hi = std::max(hi, m.nodes(2, v));
+      columns.insert({std::lround(m.nodes(0, v) / 0.01), std::lround(m.nodes(1, v) / 0.01)});
+    }
+  const auto top = msd::fibre_end_nodes(m.nodes, units, msd::Vec3::UnitZ(), 1);
+  const auto bottom = msd::fibre_end_nodes(m.nodes, units, msd::Vec3::UnitZ(), -1);
+  EXPECT_EQ(top.size(), columns.size());
+  EXPECT_EQ(bottom.size(), columns.size());
+  for (int v : top) EXPECT_NEAR(m.nodes(2, v), hi, 1e-12);
+  for (int v : bottom) EXPECT_NEAR(m.nodes(2, v), lo, 1e-12);
+  // The line's sense picks the side: -z's top is +z's bottom.
+  EXPECT_EQ(msd::fibre_end_nodes(m.nodes, units, -msd::Vec3::UnitZ(), 1), bottom);
+  // A fibre cut short ends where it is cut: drop one column's units above
+  // its middle, and the node at the cut joins the top ends.
+  const double x0 = m.nodes(0, top.front()), y0 = m.nodes(1, top.front()), mid = 0.5 * (lo + hi);
+  auto in_column = [&](int v) { return std::abs(m.nodes(0, v) - x0) < 1e-9 && std::abs(m.nodes(1, v) - y0) < 1e-9; };
+  std::vector<msd::ContractileUnit> cut;
+  for (const auto& u : units)
+    if (!(in_column(u.a) && in_column(u.b) && std::max(m.nodes(2, u.a), m.nodes(2, u.b)) > mid + 1e-9)) cut.push_back(u);
+  const auto cut_top = msd::fibre_end_nodes(m.nodes, cut, msd::Vec3::UnitZ(), 1);
+  ASSERT_EQ(cut_top.size(), top.size());
+  int at_cut = 0;
+  for (int v : cut_top)
+    if (in_column(v)) {
+      ++at_cut;
+      EXPECT_NEAR(m.nodes(2, v), mid, 0.0051);  // the highest node at or below the cut (h = 1 cm)
+    }
+  EXPECT_EQ(at_cut, 1);
+  EXPECT_EQ(msd::fibre_end_nodes(m.nodes, cut, msd::Vec3::UnitZ(), -1), bottom);
+  EXPECT_THROW(msd::fibre_end_nodes(m.nodes, units, msd::Vec3::Zero(), 1), msd::Error);
+  EXPECT_THROW(msd::fibre_end_nodes(m.nodes, units, msd::Vec3::UnitZ(), 0), msd::Error);
 }
 
 TEST(MuscleUnits, ASectionCarriesActivationTimesMaxStressTimesArea) {

@@ -706,3 +706,85 @@ TEST(LegModel, DirectTendonsRunStraightFromTheirMuscleNodeAndDragNoFleshNode) {
   EXPECT_NEAR(scratch.tendon_tension[3], 6 * o.tendon_modulus * o.strand_area * 0.1, 1e-9);
   EXPECT_LT(scratch.knee_torque, 0.0);
 }
+
+TEST(LegModel, AnAponeurosisTakesAStrandFromEveryFibreEndAndKeepsEachTendonsSection) {
+  // tendons_at_fibre_ends: each tendon's strands leave every free end of its
+  // muscle's fibres on its side (fibre_end_nodes), straight to its bone end,
+  // and share the patch's section (strands x strand_area): the tendon pulls
+  // as hard at the same strain, from more of the muscle.
+  msd::LegModelOptions o = knee_cap_inserted();
+  o.tendons_direct = true;
+  const msd::LegModel patch = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  o.tendons_at_fibre_ends = true;
+  const msd::LegModel apo = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  const msd::Points& x = apo.tissue.rest_positions;
+  ASSERT_EQ(apo.tendon_names, patch.tendon_names);
+  for (size_t t = 0; t < apo.tendon_names.size(); ++t) {
+    const msd::TendonStrands& route = shipped().tendons[t];
+    const bool front = route.muscle == msd::kFrontMuscle;
+    const auto& units = front ? apo.front_units : apo.back_units;
+    // The tendon's side: its patch's end of the muscle along the line (+z up the thigh).
+    const double patch_z = x(2, patch.strands[static_cast<size_t>(
+                                    std::find_if(patch.strands.begin(), patch.strands.end(),
+                                                 [&](const msd::LegStrand& s) { return s.tendon == static_cast<int>(t); }) -
+                                    patch.strands.begin())]
+                                    .nodes.front());
+    double middle = 0.0;
+    for (const auto& u : units) middle += 0.5 * (x(2, u.a) + x(2, u.b));
+    middle /= static_cast<double>(units.size());
+    std::vector<int> expected;
+    for (int v : msd::fibre_end_nodes(x, units, msd::Vec3::UnitZ(), patch_z > middle ? 1 : -1))
+      if (!apo.attached[static_cast<size_t>(v)]) expected.push_back(v);
+    std::vector<int> got;
+    double section = 0.0, patch_section = 0.0;
+    for (const msd::LegStrand& s : apo.strands)
+      if (s.tendon == static_cast<int>(t)) {
+        got.push_back(s.nodes.front());
+        section += s.k_t * s.natural_length / o.tendon_modulus;  // k = E A / L
+        EXPECT_EQ(s.nodes.size(), s.anchored ? 1u : 2u);
+      }
+    for (const msd::LegStrand& s : patch.strands)
+      if (s.tendon == static_cast<int>(t)) patch_section += s.k_t * s.natural_length / o.tendon_modulus;
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, expected) << route.name;
+    EXPECT_FALSE(got.empty()) << route.name;  // (the thesis leg's 30-tet front muscle has 4 fibres; the back, more than its patch)
+    EXPECT_NEAR(section, route.strands.size() * o.strand_area, 1e-12 * section) << route.name;
+    EXPECT_NEAR(section, patch_section, 1e-12 * section) << route.name;
+  }
+  // Shortened by 10 %, the knee cap's tendon pulls with E x its section x 0.1,
+  // as the patch's: the same tendon, spread over the muscle's end.
+  msd::LegScratch scratch;
+  step_with_the_knee_cap_tendon_shortened(apo, scratch);
+  EXPECT_NEAR(scratch.tendon_tension[3], 6 * o.tendon_modulus * o.strand_area * 0.1, 1e-6);
+  EXPECT_LT(scratch.knee_torque, 0.0);
+  // Without the direct route the fibre ends cannot be routed: refused, naming it.
+  o.tendons_direct = false;
+  try {
+    msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+    ADD_FAILURE() << "fibre-end tendons through the tissue were built";
+  } catch (const msd::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("direct route"), std::string::npos) << e.what();
+  }
+}
+
+TEST(LegModel, OnTheAnatomicalLegEveryTendonsAponeurosisSpansMoreFibresThanItsPatch) {
+  // The anatomical leg's muscles (msd/data/leg_anatomical, sized to
+  // Handsfield et al. 2014) are many cubes across, so each tendon's fibre
+  // ends (17-22) outnumber its patch's 6-8 strands at least twice: the force of every
+  // fibre reaches the tendon directly, not through the soft tissue around a
+  // patch (docs/leg-motion.md, "The physiological leg").
+  msd::LimbMeshOptions mo;
+  mo.spacing = 0.0245;
+  const msd::MeshedLeg anatomical = msd::mesh_leg(std::string(TISSUEBENCH_DATA_DIR) + "/leg_anatomical", mo);
+  msd::LegModelOptions o = options();
+  o.tendons_direct = true;
+  o.tendons_at_fibre_ends = true;
+  const msd::LegModel leg = msd::build_leg_model(anatomical.mesh, anatomical.tendons, o);
+  for (size_t t = 0; t < leg.tendon_names.size(); ++t) {
+    const long n = std::count_if(leg.strands.begin(), leg.strands.end(),
+                                 [&](const msd::LegStrand& s) { return s.tendon == static_cast<int>(t); });
+    std::printf("%s: %ld fibre-end strands (patch: %zu)\n", leg.tendon_names[t].c_str(), n,
+                anatomical.tendons[t].strands.size());
+    EXPECT_GT(n, 2 * static_cast<long>(anatomical.tendons[t].strands.size())) << leg.tendon_names[t];
+  }
+}

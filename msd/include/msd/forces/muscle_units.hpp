@@ -152,6 +152,16 @@ double activation_step(double activation, double excitation, double dt, double t
 std::vector<ContractileUnit> contractile_units(const TetMesh& mesh, int region, const Vec3& direction,
                                                double max_angle_deg);
 
+/// The ends of the muscle's fibres on one side (an aponeurosis attaches
+/// there): the nodes of `units` that no unit continues beyond along
+/// side * direction - every unit at such a node runs from it against
+/// side * d. side = +1: the ends furthest along d; -1: the other ends. On a
+/// grid the units along d form chains (the fibres), and each chain has one
+/// end on each side. x: 3 x N positions (the rest positions). Sorted,
+/// distinct. Throws msd::Error for a zero direction or side not +-1.
+std::vector<int> fibre_end_nodes(const Points& x, const std::vector<ContractileUnit>& units, const Vec3& direction,
+                                 int side);
+
 /// Force of each unit (N): activation * max_stress * volume / (sum over units of
 /// |(x_b - x_a) . d| at rest). 0 for no units.
 double unit_force(const TetMesh& mesh, int region, const std::vector<ContractileUnit>& units, const Vec3& direction,

@@ -79,6 +79,15 @@ struct LegModelOptions {
   /// through 24.5 mm flesh nodes, a real tendon's pull crushes the flesh at
   /// the bend (docs/leg-motion.md, the physiological leg).
   bool tendons_direct = false;
+  /// false (the thesis): each tendon's strands leave the few muscle nodes
+  /// nearest its path's start (route_tendon's patch). true (an aponeurosis:
+  /// every fibre inserts on tendon): one strand from each end of the
+  /// muscle's fibres on the tendon's side (fibre_end_nodes) to the tendon's
+  /// bone end, the tendon's section (its patch strands x strand_area) shared
+  /// among them, so the tendon is as stiff as before in total. Needs
+  /// tendons_direct: a strand from every fibre end cannot be routed through
+  /// the path's tissue nodes.
+  bool tendons_at_fibre_ends = false;
   /// Every strand's toe region (msd/forces/tendon.hpp): 0, the thesis' linear
   /// strand; real tendon about 0.02-0.03 with tendon_modulus about 1.2 GPa.
   double tendon_toe_strain = 0.0;
