@@ -12,7 +12,11 @@
 //    213; the 5 %).
 // The active scenes also check that their muscle did contract (its length
 // ratio below 0.9 or 0.95): not a band, a guard that the volume band is
-// tested where it matters.
+// tested where it matters. Two outcomes of the item 6 are asserted
+// with their own bands, cited at their tests: the quadriceps extend the knee
+// to within 15 degrees, and the isometric knee torque of each group at 80
+// degrees (two experiments, msd/data/experiments/*_physiological.yaml) is
+// within 30 % of published dynamometry.
 // Outcomes that miss their published band are not asserted (a failing test
 // cannot land); they are measured and reported, with their causes, in
 // docs/leg-motion.md, "The physiological leg". The runs stay in
@@ -79,10 +83,15 @@ TEST(PhysiologicalLeg, TheHamstringsContractAtConstantVolumeWithinTheirTendonsSt
   EXPECT_LT(r.value("back_muscle_length_ratio_min"), 0.9);
 }
 
-TEST(PhysiologicalLeg, TheQuadricepsContractAtConstantVolumeWithinTheirTendonsStrength) {
+TEST(PhysiologicalLeg, TheQuadricepsExtendTheKneeToWithin15DegreesAtConstantVolumeWithinTheirTendonsStrength) {
   const SceneRun r = run("quadriceps");
   expect_physiological(r);
   EXPECT_LT(r.value("front_muscle_length_ratio_min"), 0.9);
+  // From the knee bent at 90 degrees, full activation extends it to within
+  // 15 degrees of straight (the band; healthy adults stop 2.5-5
+  // degrees short, Stillman 2004).
+  EXPECT_NEAR(r.value("knee_angle_start_deg"), 90.0, 0.5);
+  EXPECT_LT(r.value("knee_angle_min_deg"), 15.0);
 }
 
 TEST(PhysiologicalLeg, CoContractionStrainsNoTendonPastFailureAndKeepsTheMusclesVolume) {
@@ -96,6 +105,34 @@ TEST(PhysiologicalLeg, AgainstAnObstacleTheFullyActiveHamstringsKeepTheirVolumeA
   const SceneRun r = run("obstacle");
   expect_physiological(r);
   EXPECT_LT(r.value("back_muscle_length_ratio_min"), 0.95);
+}
+
+// Isometric knee torque at full activation of each group, the knee held at
+// 80 degrees (msd/data/experiments/isometric_knee_*_physiological.yaml: the
+// physiological scenes' constants): within 30 % (the band) of the
+// published dynamometry, 199.8 +- 47.3 N m of extension and 89.8 +- 21.0 N m
+// of flexion at 80 degrees (Barrue-Belou et al. 2024, Arthrosc. Sports Med.
+// Rehabil., doi:10.1016/j.asmr.2023.100861). The active torque is the knee's
+// torque at 3.5 s (held fully active from 2.0 s) minus at 2.0 s (relaxed);
+// extension is negative.
+namespace {
+double active_torque(const SceneRun& r) { return r.at("knee_torque", 3.5) - r.at("knee_torque", 2.0); }
+}  // namespace
+
+TEST(PhysiologicalLeg, TheQuadricepsIsometricTorqueAt80DegreesIsWithin30PercentOfPublishedDynamometry) {
+  const SceneRun r = testing_support::run_scene("experiments", "isometric_knee_front_physiological",
+                                                "leg_physiological", 1);
+  expect_physiological(r);
+  EXPECT_GT(-active_torque(r), 0.7 * 199.8);
+  EXPECT_LT(-active_torque(r), 1.3 * 199.8);
+}
+
+TEST(PhysiologicalLeg, TheHamstringsIsometricTorqueAt80DegreesIsWithin30PercentOfPublishedDynamometry) {
+  const SceneRun r = testing_support::run_scene("experiments", "isometric_knee_back_physiological",
+                                                "leg_physiological", 1);
+  expect_physiological(r);
+  EXPECT_GT(active_torque(r), 0.7 * 89.8);
+  EXPECT_LT(active_torque(r), 1.3 * 89.8);
 }
 
 TEST(PhysiologicalLeg, TheDropStrainsNoTendonPastFailureAndKeepsTheMusclesVolume) { expect_physiological(run("drop")); }

@@ -391,12 +391,14 @@ TEST(LegScene, TheIsometricKneeExperimentsReadOnTheAnatomicalLegWithRealTendonsA
   const std::string dir = std::string(TISSUEBENCH_DATA_DIR) + "/experiments/";
   const leg::LegScene front = leg::read_leg_scene(dir + "isometric_knee_front.yaml");
   const leg::LegScene back = leg::read_leg_scene(dir + "isometric_knee_back.yaml");
-  // The same experiments on the physiological leg's constants: only the tissue, skin and routes differ.
+  // The same experiments on the physiological leg's constants: only the tissue, skin, routes and attachments differ.
   const leg::LegScene front_p = leg::read_leg_scene(dir + "isometric_knee_front_physiological.yaml");
   const leg::LegScene back_p = leg::read_leg_scene(dir + "isometric_knee_back_physiological.yaml");
   for (const auto& [thesis, p] : {std::pair{&front, &front_p}, std::pair{&back, &back_p}}) {
     EXPECT_EQ(p->model.terms, msd::kNeoHookean | msd::kDampers | msd::kGravity);
     EXPECT_TRUE(p->model.tendons_direct);
+    EXPECT_TRUE(p->model.tendons_at_fibre_ends);
+    EXPECT_EQ(p->model.muscle.poisson_ratio, 0.499);  // as the physiological scenes (cited there)
     EXPECT_TRUE(p->model.skin.has_value());
     EXPECT_EQ(p->model.passive.youngs_modulus, 2990);
     EXPECT_EQ(p->model.muscle.youngs_modulus, 14950);
@@ -419,6 +421,37 @@ TEST(LegScene, TheIsometricKneeExperimentsReadOnTheAnatomicalLegWithRealTendonsA
   const msd::LegDimensions d;
   EXPECT_NEAR(*front.model.front_pcsa, msd::group_pcsa(d.quadriceps, 1.756, 85.5), 0.005 * *front.model.front_pcsa);
   EXPECT_NEAR(*back.model.back_pcsa, msd::group_pcsa(d.hamstrings, 1.756, 85.5), 0.01 * *back.model.back_pcsa);
+}
+
+TEST(LegScene, TheFullActivationHamstringsExperimentIsThePhysiologicalSceneWithOnlyItsScriptTakenToFull) {
+  // msd/data/experiments/hamstrings_full_physiological.yaml: the issue's
+  // "hamstrings flex a standing knee past 90 degrees" at full activation.
+  const leg::LegScene scene = leg::read_leg_scene(std::string(TISSUEBENCH_DATA_DIR) + "/physiological/hamstrings.yaml");
+  const leg::LegScene full =
+      leg::read_leg_scene(std::string(TISSUEBENCH_DATA_DIR) + "/experiments/hamstrings_full_physiological.yaml");
+  EXPECT_EQ(full.duration, scene.duration);
+  EXPECT_EQ(full.dt, scene.dt);
+  EXPECT_EQ(full.model.gravity, scene.model.gravity);
+  EXPECT_EQ(full.model.terms, scene.model.terms);
+  EXPECT_EQ(fs::weakly_canonical(full.geometry), fs::weakly_canonical(scene.geometry));
+  EXPECT_EQ(full.model.muscle.youngs_modulus, scene.model.muscle.youngs_modulus);
+  EXPECT_EQ(full.model.muscle.poisson_ratio, scene.model.muscle.poisson_ratio);
+  EXPECT_EQ(full.model.passive.youngs_modulus, scene.model.passive.youngs_modulus);
+  EXPECT_EQ(full.model.skin.has_value(), scene.model.skin.has_value());
+  EXPECT_EQ(full.model.tendon_modulus, scene.model.tendon_modulus);
+  EXPECT_EQ(full.model.tendons_at_fibre_ends, scene.model.tendons_at_fibre_ends);
+  EXPECT_EQ(full.model.max_muscle_stress, scene.model.max_muscle_stress);
+  EXPECT_EQ(full.model.back_pcsa, scene.model.back_pcsa);
+  EXPECT_EQ(full.model.joint_damping, scene.model.joint_damping);
+  EXPECT_EQ(full.knee_angle.values(), scene.knee_angle.values());
+  EXPECT_EQ(fs::path(scene.script_path).filename(), "hamstrings.txt");
+  EXPECT_EQ(fs::path(full.script_path).filename(), "hamstrings_full.txt");
+  // The script is the thesis' one taken on to full activation at 3 s.
+  std::ifstream in(full.script_path);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (line.rfind("3.0 BACK_MUSCLE", 0) == 0) last = line;
+  EXPECT_EQ(last, "3.0 BACK_MUSCLE 1.0 1.0");
 }
 
 TEST(LegScene, TheSkinIsReadFromMaterialsAndANonPositiveOrPartialSkinIsRefused) {
@@ -453,6 +486,23 @@ TEST(LegScene, TheTendonsRouteIsReadAndAnUnknownRouteIsRefused) {
   const std::string e = error_of(f);
   EXPECT_NE(e.find("route_bad.yaml:"), std::string::npos) << e;
   EXPECT_NE(e.find("tendons.route"), std::string::npos) << e;
+}
+
+TEST(LegScene, TheTendonsAttachmentIsReadAndFibreEndsWithoutTheDirectRouteAreRefused) {
+  const std::string dir = (fs::path(TB_TEST_OUTPUT_DIR) / "leg_scene_test").string();
+  EXPECT_FALSE(leg::read_leg_scene(scenes() + "hamstrings.yaml").model.tendons_at_fibre_ends);  // the thesis' patch
+  std::string f = variant_of("hamstrings", "  strand_area: 2.0e-5",
+                             "  strand_area: 2.0e-5\n  route: direct\n  attach: fibre_ends", dir + "/attach_ends.yaml");
+  EXPECT_TRUE(leg::read_leg_scene(f).model.tendons_at_fibre_ends);
+  auto refused = [&](const std::string& lines, const std::string& name, const std::string& says) {
+    const std::string e = error_of(variant_of("hamstrings", "  strand_area: 2.0e-5", "  strand_area: 2.0e-5\n" + lines,
+                                              dir + "/" + name + ".yaml"));
+    EXPECT_NE(e.find(name + ".yaml:"), std::string::npos) << e;
+    EXPECT_NE(e.find("attach"), std::string::npos) << e;
+    EXPECT_NE(e.find(says), std::string::npos) << e;
+  };
+  refused("  attach: fibre_ends", "attach_routed", "route: direct");  // route: tissue, the default
+  refused("  route: direct\n  attach: aponeurosis", "attach_bad", "aponeurosis");
 }
 
 TEST(LegScene, ThePhysiologicalScenesAreTheTunedOnesOnTheMaterialsFilesConstants) {
@@ -503,10 +553,16 @@ TEST(LegScene, ThePhysiologicalScenesAreTheTunedOnesOnTheMaterialsFilesConstants
     for (const auto& [m, key] : pairs) {
       EXPECT_EQ(m->density, constant(key, "density")) << key;
       EXPECT_EQ(m->youngs_modulus, constant(key, "youngs_modulus")) << key;
-      EXPECT_EQ(m->poisson_ratio, constant(key, "poisson_ratio")) << key;
+      if (m == &s.model.passive) {
+        EXPECT_EQ(m->poisson_ratio, constant(key, "poisson_ratio")) << key;
+      }
       EXPECT_EQ(m->damping_time, constant(key, "damping_time")) << key;
       EXPECT_EQ(m->stiffness_scale, 1.0) << key;
     }
+    // The muscle's Poisson's ratio, the one override (cited in each file):
+    // nearer the incompressible 0.5 than the file's numerical 0.495.
+    EXPECT_EQ(s.model.muscle.poisson_ratio, 0.499);
+    EXPECT_GT(s.model.muscle.poisson_ratio, constant("passive_muscle", "poisson_ratio"));
     ASSERT_TRUE(s.model.skin.has_value());
     EXPECT_EQ(s.model.skin->youngs_modulus, constant("skin", "youngs_modulus"));
     EXPECT_EQ(s.model.skin->thickness, constant("skin", "thickness"));
@@ -515,6 +571,7 @@ TEST(LegScene, ThePhysiologicalScenesAreTheTunedOnesOnTheMaterialsFilesConstants
     EXPECT_TRUE(s.model.tendon_moduli.empty());
     EXPECT_EQ(s.model.tendon_toe_strain, 0.02);
     EXPECT_TRUE(s.model.tendons_direct);
+    EXPECT_TRUE(s.model.tendons_at_fibre_ends);  // an aponeurosis
     EXPECT_TRUE(s.model.hill.enabled);
     EXPECT_EQ(s.model.max_muscle_stress, 2.7e5);
     ASSERT_TRUE(s.model.front_pcsa && s.model.back_pcsa);
