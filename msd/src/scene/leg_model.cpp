@@ -147,7 +147,8 @@ void build_knee(const LimbMesh& m, const LegModelOptions& o, LegModel& leg) {
 // An aponeurosis (LegModelOptions::tendons_at_fibre_ends): tendon t's strands
 // from every fibre end of its muscle on its side - the side its patch (the
 // first strand's muscle node) lies on, from the muscle's middle along its line
-// of action - to its bone end, each of `area` = the patch's section over the
+// of action - to its bone end (the one bone node route_tendon gives all of a
+// tendon's strands), each of `area` = the patch's section over the
 // number of ends (area comes in as one strand's section). Fibre ends on a bone
 // are left out. Needs the muscles' units (build_muscles).
 std::vector<std::vector<int>> fibre_end_strands(const TendonStrands& t, const std::vector<TendonStrands>& tendons,

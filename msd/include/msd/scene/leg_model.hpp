@@ -83,8 +83,10 @@ struct LegModelOptions {
   /// nearest its path's start (route_tendon's patch). true (an aponeurosis:
   /// every fibre inserts on tendon): one strand from each end of the
   /// muscle's fibres on the tendon's side (fibre_end_nodes) to the tendon's
-  /// bone end, the tendon's section (its patch strands x strand_area) shared
-  /// among them, so the tendon is as stiff as before in total. Needs
+  /// bone end (route_tendon gives all of a tendon's strands one bone node;
+  /// with an insertion, that point), the tendon's section (its patch strands x
+  /// strand_area) shared among them. The total section is kept, not the
+  /// stiffness: each strand's E A / L has its own length. Needs
   /// tendons_direct: a strand from every fibre end cannot be routed through
   /// the path's tissue nodes.
   bool tendons_at_fibre_ends = false;
