@@ -148,11 +148,10 @@ void build_knee(const LimbMesh& m, const LegModelOptions& o, LegModel& leg) {
 // from every fibre end of its muscle on its side - the side its patch (the
 // first strand's muscle node) lies on, from the muscle's middle along its line
 // of action - to its bone end (the one bone node route_tendon gives all of a
-// tendon's strands), each of `area` = the patch's section over the
-// number of ends (area comes in as one strand's section). Fibre ends on a bone
-// are left out. Needs the muscles' units (build_muscles).
+// tendon's strands). Fibre ends on a bone are left out. Needs the muscles'
+// units (build_muscles).
 std::vector<std::vector<int>> fibre_end_strands(const TendonStrands& t, const std::vector<TendonStrands>& tendons,
-                                                const LegModelOptions& o, const LegModel& leg, double& area) {
+                                                const LegModelOptions& o, const LegModel& leg) {
   const bool front = t.muscle == kFrontMuscle;
   if (!front && t.muscle != kBackMuscle) throw Error("leg: tendon '" + t.name + "' does not leave a muscle");
   const std::vector<ContractileUnit>& units = front ? leg.front_units : leg.back_units;
@@ -173,7 +172,6 @@ std::vector<std::vector<int>> fibre_end_strands(const TendonStrands& t, const st
   for (int v : fibre_end_nodes(x, units, d, side))
     if (!leg.attached[static_cast<size_t>(v)]) strands.push_back({v, bone_end});
   if (strands.empty()) throw Error("leg: tendon '" + t.name + "': its muscle has no free fibre end on its side");
-  area *= static_cast<double>(t.strands.size()) / static_cast<double>(strands.size());
   return strands;
 }
 
@@ -195,8 +193,10 @@ void build_strands(const std::vector<TendonStrands>& tendons, const LegModelOpti
   for (const TendonStrands& t : tendons) {
     leg.tendon_names.push_back(t.name);
     const size_t ti = leg.tendon_names.size() - 1;
-    double area = o.strand_area;
-    const std::vector<std::vector<int>> strands = o.tendons_at_fibre_ends ? fibre_end_strands(t, tendons, o, leg, area) : t.strands;
+    const std::vector<std::vector<int>> strands = o.tendons_at_fibre_ends ? fibre_end_strands(t, tendons, o, leg) : t.strands;
+    // The route's strands share its section (patch strands x strand_area): for the patch itself the ratio is 1.
+    const double area =
+        o.strand_area * (static_cast<double>(t.strands.size()) / static_cast<double>(strands.size()));
     for (const auto& s : strands) {
       LegStrand ls;
       ls.nodes = s;
