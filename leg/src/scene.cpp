@@ -255,13 +255,26 @@ void read_tendons(const Fields& t, LegScene& s) {
 
 void read_muscles(const Fields& m, const std::string& path, LegScene& s) {
   m.only({"max_stress", "force_length_zero", "unit_angle_deg", "front_line", "back_line", "script", "activation", "law",
-          "hill", "activation_time", "deactivation_time", "pcsa"});
+          "hill", "activation_time", "deactivation_time", "pcsa", "optimal_at_deg"});
   msd::LegModelOptions& o = s.model;
   o.max_muscle_stress = number(m, "muscles.max_stress");
   if (const auto a = m.optional_section("pcsa")) {
     a->only({"front", "back"});
     if (a->has("front")) o.front_pcsa = number(*a, "muscles.pcsa.front");
     if (a->has("back")) o.back_pcsa = number(*a, "muscles.pcsa.back");
+  }
+  if (const auto a = m.optional_section("optimal_at_deg")) {
+    a->only({"front", "back"});
+    o.front_optimal_angle = number(*a, "muscles.optimal_at_deg.front") * kDeg;
+    o.back_optimal_angle = number(*a, "muscles.optimal_at_deg.back") * kDeg;
+    for (const char* side : {"front", "back"}) {
+      const double angle = std::string(side) == "front" ? o.front_optimal_angle : o.back_optimal_angle;
+      if (angle < o.min_flexion - 1e-12 || angle > o.max_flexion + 1e-12)
+        throw msd::Error(a->where(side) + "lies outside knee.range_deg");
+    }
+    if (s.tendons_engage_at)
+      throw msd::Error(m.where("optimal_at_deg") + "sets the tendons' natural lengths, as tendons.engage_at does: give "
+                       "one of them");
   }
   o.hill.enabled = tbio::read_choice(m, leg_scene_parameter("muscles.law")) == "hill";
   if (const auto h = m.optional_section("hill")) {

@@ -88,6 +88,8 @@ std::vector<Parameter> declare() {
       number("muscles.max_stress", "Pa", model.max_muscle_stress, positive, "maximum isometric stress (with law: hill, the specific tension: F_max = it x the cross-section)"),
       optional_number("muscles.pcsa.front", "m^2", positive, "F_max = max_stress x this cross-section (the published PCSA: docs/leg-geometry.md, 225 cm^2 for this leg's quadriceps) instead of the mesh's section"),
       optional_number("muscles.pcsa.back", "m^2", positive, "the same for the back muscle (the hamstrings: 88 cm^2)"),
+      number("muscles.optimal_at_deg.front", "deg", model.front_optimal_angle * 180.0 / M_PI, any, "the knee angle at which the front muscle is at its mesh length (with law: hill, its fibres' optimum) and its tendons just taut: their natural lengths are taken there (0: the straight knee of the mesh, the thesis); within knee.range_deg; not with tendons.engage_at"),
+      number("muscles.optimal_at_deg.back", "deg", model.back_optimal_angle * 180.0 / M_PI, any, "the same for the back muscle"),
       choice("muscles.law", {"thesis", "hill"}, "thesis", "thesis: units pull with activation x F (times force_length_zero's limb); hill: Zajac 1989's Hill-type law (msd/forces/muscle_units.hpp)"),
       number("muscles.hill.rest_fibre_stretch", "1", model.hill.rest_fibre_stretch, positive, "the fibres' length in the mesh's posture over their optimal length"),
       number("muscles.hill.active_width", "1", model.hill.active_width, Range::open(0, 1), "the active force-length curve is zero at 1 +- this (Zajac 1989: 0.5)"),

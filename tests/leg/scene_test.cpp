@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <cmath>
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -503,6 +504,33 @@ TEST(LegScene, TheTendonsAttachmentIsReadAndFibreEndsWithoutTheDirectRouteAreRef
   };
   refused("  attach: fibre_ends", "attach_routed", "route: direct");  // route: tissue, the default
   refused("  route: direct\n  attach: aponeurosis", "attach_bad", "aponeurosis");
+}
+
+TEST(LegScene, TheMusclesOptimalAnglesAreReadAndRefusedOutsideTheKneesRangeOrBesideEngageAt) {
+  const std::string dir = (fs::path(TB_TEST_OUTPUT_DIR) / "leg_scene_test").string();
+  const leg::LegScene thesis = leg::read_leg_scene(scenes() + "hamstrings.yaml");
+  EXPECT_EQ(thesis.model.front_optimal_angle, 0.0);  // the mesh's straight knee
+  EXPECT_EQ(thesis.model.back_optimal_angle, 0.0);
+  const std::string set = "muscles:\n  max_stress: 1.0e6";
+  const leg::LegScene s = leg::read_leg_scene(
+      variant_of("hamstrings", set, "muscles:\n  optimal_at_deg: {front: 50, back: 10}\n  max_stress: 1.0e6",
+                 dir + "/optimal.yaml"));
+  EXPECT_NEAR(s.model.front_optimal_angle, 50.0 * M_PI / 180.0, 1e-15);
+  EXPECT_NEAR(s.model.back_optimal_angle, 10.0 * M_PI / 180.0, 1e-15);
+  auto refused = [&](const std::string& name, const std::string& scene, const std::string& from,
+                     const std::string& to, const std::string& says) {
+    const std::string e = error_of(variant_of(scene, from, to, dir + "/" + name + ".yaml"));
+    EXPECT_NE(e.find(name + ".yaml:"), std::string::npos) << e;
+    EXPECT_NE(e.find("optimal_at_deg"), std::string::npos) << e;
+    EXPECT_NE(e.find(says), std::string::npos) << e;
+  };
+  // range_deg is [-10, 150] in the shipped scenes.
+  refused("optimal_outside", "hamstrings", set, "muscles:\n  optimal_at_deg: {front: 160}\n  max_stress: 1.0e6",
+          "outside knee.range_deg");
+  refused("optimal_side", "hamstrings", set, "muscles:\n  optimal_at_deg: {middle: 20}\n  max_stress: 1.0e6", "middle");
+  // The quadriceps scene engages its tendons at 2 s: two rules for one length.
+  refused("optimal_engaged", "quadriceps", set, "muscles:\n  optimal_at_deg: {front: 50}\n  max_stress: 1.0e6",
+          "engage_at");
 }
 
 TEST(LegScene, ThePhysiologicalScenesAreTheTunedOnesOnTheMaterialsFilesConstants) {

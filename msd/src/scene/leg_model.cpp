@@ -177,7 +177,8 @@ std::vector<std::vector<int>> fibre_end_strands(const TendonStrands& t, const st
 
 // The tendons' strands (thesis 5.3): through the route's tissue nodes or
 // direct, bone ends anchored at the insertions where given, natural lengths
-// at rest, stiffness from each tendon's modulus.
+// at rest with the knee at each muscle's optimal-length angle, stiffness from
+// each tendon's modulus.
 void build_strands(const std::vector<TendonStrands>& tendons, const LegModelOptions& o, LegModel& leg) {
   if (!o.tendon_insertions.empty() && o.tendon_insertions.size() != tendons.size())
     throw Error("leg: " + std::to_string(o.tendon_insertions.size()) + " tendon insertions for " +
@@ -187,6 +188,10 @@ void build_strands(const std::vector<TendonStrands>& tendons, const LegModelOpti
     if (std::none_of(tendons.begin(), tendons.end(), [&](const TendonStrands& t) { return t.name == name; }))
       throw Error("leg: a modulus is given for tendon '" + name + "', which the leg does not have");
   }
+  for (const double a : {o.front_optimal_angle, o.back_optimal_angle})
+    if (!(a >= o.min_flexion && a <= o.max_flexion))
+      throw Error("leg: a muscle's optimal-length knee angle (" + std::to_string(a * 180.0 / M_PI) +
+                  " deg) lies outside the knee's flexion range");
   if (o.tendons_at_fibre_ends && !o.tendons_direct)
     throw Error("leg: tendons attached at the fibre ends need the direct route (a strand from every fibre end cannot "
                 "run through the path's tissue nodes)");
@@ -194,6 +199,9 @@ void build_strands(const std::vector<TendonStrands>& tendons, const LegModelOpti
     leg.tendon_names.push_back(t.name);
     const size_t ti = leg.tendon_names.size() - 1;
     const std::vector<std::vector<int>> strands = o.tendons_at_fibre_ends ? fibre_end_strands(t, tendons, o, leg) : t.strands;
+    // Natural lengths with the knee where the tendon's muscle is at its mesh length.
+    const double taut_angle =
+        t.muscle == kFrontMuscle ? o.front_optimal_angle : t.muscle == kBackMuscle ? o.back_optimal_angle : 0.0;
     // The route's strands share its section (patch strands x strand_area): for the patch itself the ratio is 1.
     const double area =
         o.strand_area * (static_cast<double>(t.strands.size()) / static_cast<double>(strands.size()));
@@ -211,7 +219,7 @@ void build_strands(const std::vector<TendonStrands>& tendons, const LegModelOpti
         ls.anchor_bone = bone;
         ls.anchor_rest = *o.tendon_insertions[ti];
       }
-      ls.natural_length = leg_strand_length(leg, ls, leg.tissue.rest_positions, 0.0);
+      ls.natural_length = leg_strand_length(leg, ls, leg.tissue.rest_positions, taut_angle);
       if (!(ls.natural_length > 0.0)) throw Error("leg: tendon '" + t.name + "' has a strand of zero length");
       const auto mod = o.tendon_moduli.find(t.name);
       ls.k_t = tendon_stiffness(mod != o.tendon_moduli.end() ? mod->second : o.tendon_modulus, area,

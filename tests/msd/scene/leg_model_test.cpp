@@ -806,3 +806,52 @@ TEST(LegModel, OnTheAnatomicalLegEveryTendonsAponeurosisSpansMoreFibresThanItsPa
     EXPECT_GT(n, static_cast<long>(anatomical.tendons[t].strands.size())) << leg.tendon_names[t];
   }
 }
+
+TEST(LegModel, AMusclesTendonsAreJustTautWithTheKneeAtItsOptimalAngle) {
+  // front_optimal_angle: the front muscle's tendons take their natural
+  // lengths with the tissue at rest and the knee there, so the knee cap's
+  // tendon (inserted on the lower bone, in front of the axis) is slack when
+  // the knee is straighter and pulls when it is more flexed. The other
+  // tendons keep the straight knee's lengths.
+  msd::LegModelOptions o = knee_cap_inserted();
+  o.tendons_direct = true;
+  const msd::LegModel straight = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  const double optimum = 50.0 * kDeg;
+  o.front_optimal_angle = optimum;
+  const msd::LegModel flexed = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  ASSERT_EQ(flexed.strands.size(), straight.strands.size());
+  const msd::Mat3 r = msd::hinge_rotation(flexed.knee, optimum);
+  int knee_cap_strands = 0;
+  for (size_t i = 0; i < flexed.strands.size(); ++i) {
+    const msd::LegStrand& s = flexed.strands[i];
+    if (s.tendon != 3) {
+      EXPECT_EQ(s.natural_length, straight.strands[i].natural_length) << flexed.tendon_names[s.tendon];
+      continue;
+    }
+    // Closed form: from the muscle node at rest to the insertion turned about the knee.
+    ASSERT_TRUE(s.anchored);
+    ASSERT_EQ(s.nodes.size(), 1u);
+    const msd::Vec3 p = flexed.tissue.rest_positions.col(s.nodes.front());
+    const msd::Vec3 q = flexed.knee.centre + r * (kKneeCapInsertion - flexed.knee.centre);
+    EXPECT_NEAR(s.natural_length, (p - q).norm(), 1e-12);
+    EXPECT_GT(s.natural_length, straight.strands[i].natural_length);  // flexion lengthens a tendon in front of the axis
+    ++knee_cap_strands;
+  }
+  EXPECT_GT(knee_cap_strands, 0);
+  // Held at 40 degrees the knee cap's tendon is slack; at 60, taut.
+  for (const double deg : {0.0, 40.0, 60.0}) {
+    msd::LegState st = msd::leg_rest_state(flexed, deg * kDeg);
+    msd::LegControls c;
+    c.scripted_knee = msd::HingeState{deg * kDeg, 0.0};
+    msd::LegScratch scratch;
+    msd::step_leg(flexed, st, c, 1e-4, scratch);
+    if (deg < 50.0)
+      EXPECT_EQ(scratch.tendon_tension[3], 0.0) << deg;
+    else
+      EXPECT_GT(scratch.tendon_tension[3], 0.0) << deg;
+  }
+  // An angle outside the knee's range is refused, naming it.
+  o.front_optimal_angle = o.max_flexion + 0.1;
+  const std::string outside = refusal_of(shipped().mesh, o);
+  EXPECT_NE(outside.find("optimal-length knee angle"), std::string::npos) << outside;
+}

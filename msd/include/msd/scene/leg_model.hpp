@@ -108,6 +108,16 @@ struct LegModelOptions {
   /// The Hill-type law instead (msd/forces/muscle_units.hpp); max_muscle_stress
   /// is then the specific tension (F_max = it x the cross-section).
   HillMuscle hill;
+  /// Per muscle (rad): the knee angle at which the muscle is at its mesh
+  /// length with its tendons just taut - its tendons' natural lengths are
+  /// their paths' lengths with the tissue at rest and the knee at this angle.
+  /// Flexed from it, a muscle whose tendon crosses the knee in front of the
+  /// axis is stretched; extended, its tendon goes slack. With the Hill law the
+  /// mesh length is the optimal length times rest_fibre_stretch, so this is
+  /// the posture of the fibres' optimum (the vastus lateralis: near 50
+  /// degrees, Chen et al. 2016). 0 (the thesis): the mesh's straight knee.
+  /// Must lie in [min_flexion, max_flexion].
+  double front_optimal_angle = 0.0, back_optimal_angle = 0.0;
   /// Activation dynamics (activation_step): the controls' activations become
   /// excitations that the muscles' activations follow with these time
   /// constants (s; Zajac 1989: 0.01 and 0.04). 0: the activation is the
