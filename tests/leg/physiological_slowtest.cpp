@@ -12,11 +12,13 @@
 //    213; the 5 %).
 // The active scenes also check that their muscle did contract (its length
 // ratio below 0.9 or 0.95): not a band, a guard that the volume band is
-// tested where it matters. Two outcomes of the item 6 are asserted
+// tested where it matters. Outcomes of the item 6 are asserted
 // with their own bands, cited at their tests: the quadriceps extend the knee
-// to within 15 degrees, and the isometric knee torque of each group at 80
-// degrees (two experiments, msd/data/experiments/*_physiological.yaml) is
-// within 30 % of published dynamometry.
+// to within 15 degrees, the hamstrings flex a standing knee past 90 degrees
+// at full activation, the isometric knee torque of each group at 80
+// degrees is within 30 % of published dynamometry (these three in
+// experiments, msd/data/experiments/*_physiological.yaml), and the drop's
+// relaxation index lies within a healthy population's spread.
 // Outcomes that miss their published band are not asserted (a failing test
 // cannot land); they are measured and reported, with their causes, in
 // docs/leg-motion.md, "The physiological leg". The runs stay in
@@ -137,7 +139,35 @@ TEST(PhysiologicalLeg, TheHamstringsIsometricTorqueAt80DegreesIsWithin30PercentO
   EXPECT_LT(active_torque(r), 1.3 * 89.8);
 }
 
-TEST(PhysiologicalLeg, TheDropStrainsNoTendonPastFailureAndKeepsTheMusclesVolume) { expect_physiological(run("drop")); }
+// The pendulum (drop) test's relaxation index, the first swing over the
+// rest angle, both from the start: within two standard deviations of the
+// healthy mean, 1.678 +- 0.090 (Kim et al. 1996, 50 adults). The swing and
+// the rest follow from the leg's inertia, gravity and the relaxed
+// quadriceps' passive element beyond their optimum at 50 degrees (Chen et
+// al. 2016); the knee's lumped damping is still the thesis scenes' model
+// choice, so the index is checked here but not claimed as a prediction
+// (docs/leg-motion.md).
+TEST(PhysiologicalLeg, TheDropStrainsNoTendonPastFailureAndItsRelaxationIndexIsAHealthyLegs) {
+  const SceneRun r = run("drop");
+  expect_physiological(r);
+  const double rest = r.value("drop_rest_angle_deg") - r.value("drop_start_angle_deg");
+  ASSERT_GT(rest, 0.0);
+  const double index = r.value("drop_first_swing_amplitude_deg") / rest;
+  EXPECT_GT(index, 1.678 - 2 * 0.090);
+  EXPECT_LT(index, 1.678 + 2 * 0.090);
+}
+
+// The hamstrings flex a standing knee past 90 degrees at full activation
+// (the statement; msd/data/experiments/hamstrings_full_physiological.yaml,
+// the physiological hamstrings scene with its script taken on to full
+// activation).
+TEST(PhysiologicalLeg, TheHamstringsFlexAStandingKneePast90DegreesAtFullActivation) {
+  const SceneRun r =
+      testing_support::run_scene("experiments", "hamstrings_full_physiological", "leg_physiological", 1);
+  expect_physiological(r);
+  EXPECT_NEAR(r.value("knee_angle_start_deg"), 0.0, 0.5);
+  EXPECT_GT(r.value("knee_angle_max_deg"), 90.0);
+}
 
 TEST(PhysiologicalLeg, TheSwingStrainsNoTendonPastFailureAndKeepsTheMusclesVolume) { expect_physiological(run("swing")); }
 
