@@ -275,6 +275,9 @@ void read_muscles(const Fields& m, const std::string& path, LegScene& s) {
     if (s.tendons_engage_at)
       throw msd::Error(m.where("optimal_at_deg") + "sets the tendons' natural lengths, as tendons.engage_at does: give "
                        "one of them");
+    if ((o.front_optimal_angle != 0.0 || o.back_optimal_angle != 0.0) && !(o.tendons_direct && s.insert_at_path_end))
+      throw msd::Error(m.where("optimal_at_deg") + "needs tendons.route: direct and tendons.insertions: path (only a "
+                       "strand straight to its insertion turns with the knee when its natural length is taken)");
   }
   o.hill.enabled = tbio::read_choice(m, leg_scene_parameter("muscles.law")) == "hill";
   if (const auto h = m.optional_section("hill")) {

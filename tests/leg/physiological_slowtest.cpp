@@ -16,9 +16,9 @@
 // with their own bands, cited at their tests: the quadriceps extend the knee
 // to within 15 degrees, the hamstrings flex a standing knee past 90 degrees
 // at full activation, the isometric knee torque of each group at 80
-// degrees is within 30 % of published dynamometry (these three in
-// experiments, msd/data/experiments/*_physiological.yaml), and the drop's
-// relaxation index lies within a healthy population's spread.
+// degrees is within 30 % of published dynamometry (the hamstrings' flexion
+// and the two torques in experiments, msd/data/experiments/*_physiological.yaml),
+// and the drop's relaxation index lies within a healthy population's spread.
 // Outcomes that miss their published band are not asserted (a failing test
 // cannot land); they are measured and reported, with their causes, in
 // docs/leg-motion.md, "The physiological leg". The runs stay in
@@ -90,12 +90,12 @@ TEST(PhysiologicalLeg, TheQuadricepsExtendTheKneeToWithin15DegreesAtConstantVolu
   expect_physiological(r);
   EXPECT_LT(r.value("front_muscle_length_ratio_min"), 0.9);
   // From the knee bent at 90 degrees, full activation extends it to within
-  // 15 degrees of straight, either side (the band; healthy adults
-  // stop 2.5-5 degrees short, Stillman 2004 - the model passes straight,
-  // reported in docs/leg-motion.md).
+  // 15 degrees of straight (the band; healthy adults stop 2.5-5
+  // degrees short, Stillman 2004). The other side needs no assertion: the
+  // scene's knee range ends at -10 degrees, and the model reaches that stop
+  // (reported in docs/leg-motion.md).
   EXPECT_NEAR(r.value("knee_angle_start_deg"), 90.0, 0.5);
   EXPECT_LT(r.value("knee_angle_min_deg"), 15.0);
-  EXPECT_GT(r.value("knee_angle_min_deg"), -15.0);
 }
 
 TEST(PhysiologicalLeg, CoContractionStrainsNoTendonPastFailureAndKeepsTheMusclesVolume) {

@@ -522,31 +522,37 @@ TEST(LegScene, TheTendonsAttachmentIsReadAndFibreEndsWithoutTheDirectRouteAreRef
   refused("  route: direct\n  attach: aponeurosis", "attach_bad", "aponeurosis");
 }
 
-TEST(LegScene, TheMusclesOptimalAnglesAreReadAndRefusedOutsideTheKneesRangeOrBesideEngageAt) {
+TEST(LegScene, TheMusclesOptimalAnglesAreReadAndRefusedOutsideTheKneesRangeBesideEngageAtOrOffTheDirectRoute) {
   const std::string dir = (fs::path(TB_TEST_OUTPUT_DIR) / "leg_scene_test").string();
   const leg::LegScene thesis = leg::read_leg_scene(scenes() + "hamstrings.yaml");
   EXPECT_EQ(thesis.model.front_optimal_angle, 0.0);  // the mesh's straight knee
   EXPECT_EQ(thesis.model.back_optimal_angle, 0.0);
+  // The shipped scenes' tendons section ends just before muscles: the edits
+  // add the direct route there (insertions: path is the default).
   const std::string set = "muscles:\n  max_stress: 1.0e6";
-  const leg::LegScene s = leg::read_leg_scene(
-      variant_of("hamstrings", set, "muscles:\n  optimal_at_deg: {front: 50, back: 10}\n  max_stress: 1.0e6",
-                 dir + "/optimal.yaml"));
+  const auto with = [](const std::string& route, const std::string& angles) {
+    return route + "muscles:\n  optimal_at_deg: " + angles + "\n  max_stress: 1.0e6";
+  };
+  const std::string direct = "  route: direct\n";
+  const leg::LegScene s =
+      leg::read_leg_scene(variant_of("hamstrings", set, with(direct, "{front: 50, back: 10}"), dir + "/optimal.yaml"));
   EXPECT_NEAR(s.model.front_optimal_angle, 50.0 * M_PI / 180.0, 1e-15);
   EXPECT_NEAR(s.model.back_optimal_angle, 10.0 * M_PI / 180.0, 1e-15);
-  auto refused = [&](const std::string& name, const std::string& scene, const std::string& from,
-                     const std::string& to, const std::string& says) {
-    const std::string e = error_of(variant_of(scene, from, to, dir + "/" + name + ".yaml"));
+  auto refused = [&](const std::string& name, const std::string& scene, const std::string& to,
+                     const std::string& says) {
+    const std::string e = error_of(variant_of(scene, set, to, dir + "/" + name + ".yaml"));
     EXPECT_NE(e.find(name + ".yaml:"), std::string::npos) << e;
     EXPECT_NE(e.find("optimal_at_deg"), std::string::npos) << e;
     EXPECT_NE(e.find(says), std::string::npos) << e;
   };
   // range_deg is [-10, 150] in the shipped scenes.
-  refused("optimal_outside", "hamstrings", set, "muscles:\n  optimal_at_deg: {front: 160}\n  max_stress: 1.0e6",
-          "outside knee.range_deg");
-  refused("optimal_side", "hamstrings", set, "muscles:\n  optimal_at_deg: {middle: 20}\n  max_stress: 1.0e6", "middle");
+  refused("optimal_above", "hamstrings", with(direct, "{front: 160}"), "outside knee.range_deg");
+  refused("optimal_below", "hamstrings", with(direct, "{back: -20}"), "outside knee.range_deg");
+  refused("optimal_side", "hamstrings", with(direct, "{middle: 20}"), "middle");
   // The quadriceps scene engages its tendons at 2 s: two rules for one length.
-  refused("optimal_engaged", "quadriceps", set, "muscles:\n  optimal_at_deg: {front: 50}\n  max_stress: 1.0e6",
-          "engage_at");
+  refused("optimal_engaged", "quadriceps", with(direct, "{front: 50}"), "engage_at");
+  // Through the flesh nodes (the thesis' route) a strand's length would not turn with the knee.
+  refused("optimal_routed", "hamstrings", with("", "{front: 50}"), "route: direct");
 }
 
 TEST(LegScene, ThePhysiologicalScenesAreTheTunedOnesOnTheMaterialsFilesConstants) {

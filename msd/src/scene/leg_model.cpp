@@ -219,6 +219,11 @@ void build_strands(const std::vector<TendonStrands>& tendons, const LegModelOpti
         ls.anchor_bone = bone;
         ls.anchor_rest = *o.tendon_insertions[ti];
       }
+      // Only an anchored strand's insertion turns with the angle (leg_strand_length): a
+      // strand through flesh nodes or to a bone node would keep the straight knee's length.
+      if (taut_angle != 0.0 && (!o.tendons_direct || !ls.anchored))
+        throw Error("leg: tendon '" + t.name + "': a muscle's optimal-length knee angle needs the direct route and "
+                    "the insertion at the path's end");
       ls.natural_length = leg_strand_length(leg, ls, leg.tissue.rest_positions, taut_angle);
       if (!(ls.natural_length > 0.0)) throw Error("leg: tendon '" + t.name + "' has a strand of zero length");
       const auto mod = o.tendon_moduli.find(t.name);

@@ -812,9 +812,16 @@ TEST(LegModel, AMusclesTendonsAreJustTautWithTheKneeAtItsOptimalAngle) {
   // lengths with the tissue at rest and the knee there, so the knee cap's
   // tendon (inserted on the lower bone, in front of the axis) is slack when
   // the knee is straighter and pulls when it is more flexed. The other
-  // tendons keep the straight knee's lengths.
+  // tendons keep the straight knee's lengths. Every tendon here runs
+  // straight to an insertion (the angle needs it): the knee cap's at
+  // kKneeCapInsertion, the others at their bone node's rest position.
   msd::LegModelOptions o = knee_cap_inserted();
   o.tendons_direct = true;
+  {
+    const msd::LegModel routed = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+    for (const msd::LegStrand& s : routed.strands)
+      if (!s.anchored) o.tendon_insertions[static_cast<size_t>(s.tendon)] = routed.tissue.rest_positions.col(s.nodes.back());
+  }
   const msd::LegModel straight = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
   const double optimum = 50.0 * kDeg;
   o.front_optimal_angle = optimum;
@@ -824,12 +831,12 @@ TEST(LegModel, AMusclesTendonsAreJustTautWithTheKneeAtItsOptimalAngle) {
   int knee_cap_strands = 0;
   for (size_t i = 0; i < flexed.strands.size(); ++i) {
     const msd::LegStrand& s = flexed.strands[i];
+    ASSERT_TRUE(s.anchored);
     if (s.tendon != 3) {
       EXPECT_EQ(s.natural_length, straight.strands[i].natural_length) << flexed.tendon_names[s.tendon];
       continue;
     }
     // Closed form: from the muscle node at rest to the insertion turned about the knee.
-    ASSERT_TRUE(s.anchored);
     ASSERT_EQ(s.nodes.size(), 1u);
     const msd::Vec3 p = flexed.tissue.rest_positions.col(s.nodes.front());
     const msd::Vec3 q = flexed.knee.centre + r * (kKneeCapInsertion - flexed.knee.centre);
@@ -850,8 +857,34 @@ TEST(LegModel, AMusclesTendonsAreJustTautWithTheKneeAtItsOptimalAngle) {
     else
       EXPECT_GT(scratch.tendon_tension[3], 0.0) << deg;
   }
+  // The back muscle's angle moves only its lower tendon (on the lower bone,
+  // behind the axis: flexion shortens it); the front's stay as they were.
+  o.back_optimal_angle = 30.0 * kDeg;
+  const msd::LegModel both = msd::build_leg_model(shipped().mesh, shipped().tendons, o);
+  int back_lower_strands = 0;
+  for (size_t i = 0; i < both.strands.size(); ++i) {
+    if (both.strands[i].tendon == 1) {
+      EXPECT_LT(both.strands[i].natural_length, flexed.strands[i].natural_length) << i;
+      ++back_lower_strands;
+    } else {
+      EXPECT_EQ(both.strands[i].natural_length, flexed.strands[i].natural_length) << i;
+    }
+  }
+  EXPECT_GT(back_lower_strands, 0);
   // An angle outside the knee's range is refused, naming it.
+  o.back_optimal_angle = 0.0;
   o.front_optimal_angle = o.max_flexion + 0.1;
   const std::string outside = refusal_of(shipped().mesh, o);
   EXPECT_NE(outside.find("optimal-length knee angle"), std::string::npos) << outside;
+  // So is an angle for a strand that does not run straight to an insertion:
+  // through flesh nodes, or to a bone node, its length would not turn with
+  // the knee.
+  o.front_optimal_angle = optimum;
+  o.tendons_direct = false;
+  const std::string routed = refusal_of(shipped().mesh, o);
+  EXPECT_NE(routed.find("direct route"), std::string::npos) << routed;
+  o.tendons_direct = true;
+  o.tendon_insertions[3] = std::nullopt;
+  const std::string to_a_node = refusal_of(shipped().mesh, o);
+  EXPECT_NE(to_a_node.find("insertion at the path's end"), std::string::npos) << to_a_node;
 }
