@@ -267,11 +267,9 @@ void read_muscles(const Fields& m, const std::string& path, LegScene& s) {
     a->only({"front", "back"});
     o.front_optimal_angle = number(*a, "muscles.optimal_at_deg.front") * kDeg;
     o.back_optimal_angle = number(*a, "muscles.optimal_at_deg.back") * kDeg;
-    for (const char* side : {"front", "back"}) {
-      const double angle = std::string(side) == "front" ? o.front_optimal_angle : o.back_optimal_angle;
+    for (const auto& [side, angle] : {std::pair{"front", o.front_optimal_angle}, std::pair{"back", o.back_optimal_angle}})
       if (angle < o.min_flexion - 1e-12 || angle > o.max_flexion + 1e-12)
         throw msd::Error(a->where(side) + "lies outside knee.range_deg");
-    }
     if (s.tendons_engage_at)
       throw msd::Error(m.where("optimal_at_deg") + "sets the tendons' natural lengths, as tendons.engage_at does: give "
                        "one of them");

@@ -13,8 +13,8 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <regex>

@@ -205,12 +205,18 @@ void build_strands(const std::vector<TendonStrands>& tendons, const LegModelOpti
     // The route's strands share its section (patch strands x strand_area): for the patch itself the ratio is 1.
     const double area =
         o.strand_area * (static_cast<double>(t.strands.size()) / static_cast<double>(strands.size()));
+    const bool inserted = ti < o.tendon_insertions.size() && o.tendon_insertions[ti];
+    // Only an anchored strand's insertion turns with the angle (leg_strand_length): a
+    // strand through flesh nodes or to a bone node would keep the straight knee's length.
+    if (taut_angle != 0.0 && !(o.tendons_direct && inserted))
+      throw Error("leg: tendon '" + t.name + "': a muscle's optimal-length knee angle needs the direct route and "
+                  "the insertion at the path's end");
     for (const auto& s : strands) {
       LegStrand ls;
       ls.nodes = s;
       if (o.tendons_direct && s.size() > 2) ls.nodes = {s.front(), s.back()};
       ls.tendon = static_cast<int>(ti);
-      if (ti < o.tendon_insertions.size() && o.tendon_insertions[ti]) {
+      if (inserted) {
         const int bone = leg.attached[static_cast<size_t>(s.back())];
         if (!bone) throw Error("leg: tendon '" + t.name + "' does not end on a bone node, so it cannot take an insertion");
         if (ls.nodes.size() < 2) throw Error("leg: tendon '" + t.name + "' has a strand of one node");
@@ -219,11 +225,6 @@ void build_strands(const std::vector<TendonStrands>& tendons, const LegModelOpti
         ls.anchor_bone = bone;
         ls.anchor_rest = *o.tendon_insertions[ti];
       }
-      // Only an anchored strand's insertion turns with the angle (leg_strand_length): a
-      // strand through flesh nodes or to a bone node would keep the straight knee's length.
-      if (taut_angle != 0.0 && (!o.tendons_direct || !ls.anchored))
-        throw Error("leg: tendon '" + t.name + "': a muscle's optimal-length knee angle needs the direct route and "
-                    "the insertion at the path's end");
       ls.natural_length = leg_strand_length(leg, ls, leg.tissue.rest_positions, taut_angle);
       if (!(ls.natural_length > 0.0)) throw Error("leg: tendon '" + t.name + "' has a strand of zero length");
       const auto mod = o.tendon_moduli.find(t.name);
