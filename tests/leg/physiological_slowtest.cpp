@@ -144,8 +144,9 @@ TEST(PhysiologicalLeg, TheHamstringsIsometricTorqueAt80DegreesIsWithin30PercentO
 // healthy mean, 1.678 +- 0.090 (Kim et al. 1996, 50 adults). The swing and
 // the rest follow from the leg's inertia, gravity and the relaxed
 // quadriceps' passive element beyond their optimum at 50 degrees (Chen et
-// al. 2016); the knee's lumped damping is still the thesis scenes' model
-// choice, so the index is checked here but not claimed as a prediction
+// al. 2016), and the knee's lumped damping is the healthy knee's measured
+// without the pendulum (0.08 N m s/rad: van der Kooij et al. 2022, the
+// swing phase of walking), so nothing in the drop is fitted to a pendulum
 // (docs/leg-motion.md).
 TEST(PhysiologicalLeg, TheDropStrainsNoTendonPastFailureAndItsRelaxationIndexIsAHealthyLegs) {
   const SceneRun r = run("drop");
