@@ -60,36 +60,42 @@ void wobble_metrics(const std::vector<double>& t, const std::vector<double>& x, 
       d.emplace_back(x[i], y[i], z[i]);
     }
   if (d.size() < 8) return;
-  msd::Vec3 mean = msd::Vec3::Zero();
-  for (const auto& p : d) mean += p;
-  mean /= static_cast<double>(d.size());
+  const size_t n = d.size();
+  // The ring about the probe's slow motion: less the centred moving mean
+  // over kSlowWindow (the settling and the creep, which a straight line does
+  // not follow), where the whole window fits.
+  const double dt = (tt.back() - tt.front()) / static_cast<double>(n - 1);
+  const size_t h = std::max<size_t>(1, static_cast<size_t>(std::lround(0.5 * kSlowWindow / dt)));
+  if (n < 2 * h + 8) return;
+  std::vector<msd::Vec3> prefix(n + 1, msd::Vec3::Zero());
+  for (size_t i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + d[i];
+  std::vector<double> ts;
+  std::vector<msd::Vec3> ring;
+  double slow = 0.0;
+  msd::Vec3 first_trend = msd::Vec3::Zero();
+  for (size_t i = h; i + h < n; ++i) {
+    const msd::Vec3 trend = (prefix[i + h + 1] - prefix[i - h]) / static_cast<double>(2 * h + 1);
+    if (i == h) first_trend = trend;
+    slow = std::max(slow, (trend - first_trend).norm());
+    ts.push_back(tt[i]);
+    ring.push_back(d[i] - trend);
+  }
   msd::Mat3 cov = msd::Mat3::Zero();
-  for (const auto& p : d) cov += (p - mean) * (p - mean).transpose();
+  for (const auto& p : ring) cov += p * p.transpose();
   Eigen::SelfAdjointEigenSolver<msd::Mat3> es(cov);
   const msd::Vec3 axis = es.eigenvectors().col(2);
-  // Less its straight-line drift (the flesh still settling under gravity).
-  std::vector<double> sig;
-  double st = 0.0, ss = 0.0, stt = 0.0, sts = 0.0;
-  for (size_t i = 0; i < d.size(); ++i) {
-    const double s = axis.dot(d[i] - mean);
-    sig.push_back(s);
-    st += tt[i];
-    ss += s;
-    stt += tt[i] * tt[i];
-    sts += tt[i] * s;
-  }
-  const double nn = static_cast<double>(d.size());
-  const double slope = (nn * sts - st * ss) / (nn * stt - st * st), icpt = (ss - slope * st) / nn;
+  std::vector<double> sig(ring.size());
   double amp = 0.0;
-  for (size_t i = 0; i < sig.size(); ++i) {
-    sig[i] -= icpt + slope * tt[i];
+  for (size_t i = 0; i < ring.size(); ++i) {
+    sig[i] = axis.dot(ring[i]);
     amp = std::max(amp, std::abs(sig[i]));
   }
-  const tbio::RingDown r = tbio::analyse_ring_down(tt, sig);
+  const tbio::RingDown r = tbio::analyse_ring_down(ts, sig);
   out["wobble_frequency_hz"] = r.frequency;
   out["wobble_damping_ratio"] = r.damping_ratio;
   out["wobble_amplitude_m"] = amp;
   out["wobble_peaks"] = r.peaks;
+  out["wobble_slow_motion_m"] = slow;
 }
 
 std::map<std::string, double> summarise(Recorded recorded, const LegScene& scene,

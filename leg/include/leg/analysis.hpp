@@ -21,9 +21,19 @@ using Recorded = std::map<std::string, std::vector<double>>;
 void drop_metrics(const std::vector<double>& t, const std::vector<double>& angle_deg, double release,
                   std::map<std::string, double>& out);
 
-/// The probe's mean displacement (x, y, z) after `after`, on its direction of
-/// largest variance, less its straight-line drift, as a ring-down: frequency,
-/// damping ratio, amplitude and peaks. Adds nothing with fewer than 8 samples.
+/// The window of the wobble's slow motion, s: what the probe does slower than
+/// about 1 / kSlowWindow = 2 Hz is not the ring.
+inline constexpr double kSlowWindow = 0.5;
+
+/// The probe's mean displacement (x, y, z) after `after` (samples evenly
+/// spaced in time) less its centred moving mean over kSlowWindow, where the
+/// whole window fits (from after + kSlowWindow / 2 to the record's end less
+/// as much), on the direction of largest variance of what is left, as a
+/// ring-down: wobble_frequency_hz, wobble_damping_ratio, wobble_amplitude_m
+/// (the ring's largest excursion there) and wobble_peaks; and
+/// wobble_slow_motion_m, the moving mean's largest distance from its first
+/// value (settling, creep). Adds nothing with fewer than 8 samples beyond
+/// the window.
 void wobble_metrics(const std::vector<double>& t, const std::vector<double>& x, const std::vector<double>& y,
                     const std::vector<double>& z, double after, std::map<std::string, double>& out);
 

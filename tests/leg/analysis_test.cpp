@@ -1,0 +1,105 @@
+// The summary's signal analyses (leg/src/analysis.cpp) on signals whose
+// answer is known in closed form: the wobble's ring-down under a slow creep,
+// and the pendulum test's swing.
+#include "leg/analysis.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace {
+
+// A ring x(t) = A exp(-zeta w t) cos(w_d t) from t0 along `axis`, plus a
+// creep C (1 - exp(-(t - t0) / tau)) along z, sampled at 250 Hz (the wobble
+// scene's output interval). Before t0 the probe is still.
+struct Probe {
+  std::vector<double> t, x, y, z;
+};
+
+constexpr double kT0 = 0.25, kF = 8.0, kZeta = 0.05, kA = 3e-4, kTau = 0.3;
+
+Probe ring_with_creep(double creep) {
+  Probe p;
+  const double w = 2.0 * M_PI * kF, wd = w * std::sqrt(1.0 - kZeta * kZeta);
+  for (int i = 0; i <= 750; ++i) {
+    const double t = 0.004 * i, s = t - kT0;
+    const double ring = s < 0.0 ? 0.0 : kA * std::exp(-kZeta * w * s) * std::cos(wd * s);
+    const double c = s < 0.0 ? 0.0 : creep * (1.0 - std::exp(-s / kTau));
+    p.t.push_back(t);
+    p.x.push_back(0.8 * ring);
+    p.y.push_back(0.6 * ring);
+    p.z.push_back(c);
+  }
+  return p;
+}
+
+// The creep's mean over the window of width w centred on t (t - w / 2 >= t0).
+double creep_mean(double creep, double t, double w) {
+  const double a = t - 0.5 * w - kT0, b = t + 0.5 * w - kT0;
+  return creep * (1.0 - kTau / w * (std::exp(-a / kTau) - std::exp(-b / kTau)));
+}
+
+TEST(WobbleMetrics, ReadsTheRingUnderACreepThreeTimesItsSize) {
+  const Probe p = ring_with_creep(1e-3);
+  std::map<std::string, double> out;
+  leg::wobble_metrics(p.t, p.x, p.y, p.z, kT0, out);
+  const double fd = kF * std::sqrt(1.0 - kZeta * kZeta);
+  EXPECT_NEAR(out.at("wobble_frequency_hz"), fd, 0.02 * fd);
+  EXPECT_NEAR(out.at("wobble_damping_ratio"), kZeta, 0.15 * kZeta);
+  // Analysed from t0 + half the window on: the ring has decayed by
+  // exp(-zeta w 0.25 s) = 0.53 there.
+  EXPECT_GT(out.at("wobble_amplitude_m"), 0.8 * kA * std::exp(-kZeta * 2.0 * M_PI * kF * 0.25));
+  EXPECT_LT(out.at("wobble_amplitude_m"), 1.2 * kA * std::exp(-kZeta * 2.0 * M_PI * kF * 0.25));
+  EXPECT_GE(out.at("wobble_peaks"), 8.0);
+  // The slow motion is the creep's moving mean between the ends of the
+  // analysed span (the ring's own moving mean adds a little: it decays
+  // within the window).
+  const double w = leg::kSlowWindow;
+  const double slow = creep_mean(1e-3, 3.0 - 0.5 * w, w) - creep_mean(1e-3, kT0 + 0.5 * w, w);
+  EXPECT_NEAR(out.at("wobble_slow_motion_m"), slow, 0.05 * slow);
+}
+
+TEST(WobbleMetrics, APureRingHasNoSlowMotion) {
+  const Probe p = ring_with_creep(0.0);
+  std::map<std::string, double> out;
+  leg::wobble_metrics(p.t, p.x, p.y, p.z, kT0, out);
+  EXPECT_NEAR(out.at("wobble_frequency_hz"), kF, 0.02 * kF);
+  EXPECT_NEAR(out.at("wobble_damping_ratio"), kZeta, 0.15 * kZeta);
+  // A decaying ring's moving mean is not quite zero: below a tenth of it.
+  EXPECT_LT(out.at("wobble_slow_motion_m"), 0.1 * out.at("wobble_amplitude_m"));
+}
+
+TEST(WobbleMetrics, AddsNothingWhenTheRecordIsShorterThanTheWindow) {
+  Probe p = ring_with_creep(1e-3);
+  std::map<std::string, double> out;
+  leg::wobble_metrics(p.t, p.x, p.y, p.z, 3.0 - 0.4, out);  // 0.4 s < the 0.5 s window + 8 samples
+  EXPECT_TRUE(out.empty());
+}
+
+// A pendulum released at 0 deg towards its rest at R: the angle is
+// R (1 - exp(-zeta w s) cos(w_d s)) after the release, so the first swing
+// peaks at R (1 + exp(-zeta w T / 2)) half a period on and the next one
+// period later; the rest is the last fifth's mean.
+TEST(DropMetrics, ReadsTheSwingOfADampedPendulum) {
+  constexpr double kRest = 70.0, kRelease = 0.2, kPeriod = 1.1, kZ = 0.07;
+  const double wd = 2.0 * M_PI / kPeriod, w = wd / std::sqrt(1.0 - kZ * kZ);
+  std::vector<double> t, a;
+  for (int i = 0; i <= 5000; ++i) {  // 20 s: the last fifth is at rest to 0.2 deg
+    const double ti = 0.004 * i, s = std::max(0.0, ti - kRelease);
+    t.push_back(ti);
+    a.push_back(kRest * (1.0 - std::exp(-kZ * w * s) * std::cos(wd * s)));
+  }
+  std::map<std::string, double> out;
+  leg::drop_metrics(t, a, kRelease, out);
+  EXPECT_NEAR(out.at("drop_rest_angle_deg"), kRest, 0.5);
+  EXPECT_NEAR(out.at("drop_start_angle_deg"), 0.0, 1e-9);
+  EXPECT_NEAR(out.at("drop_first_swing_peak_deg"), kRest * (1.0 + std::exp(-kZ * w * kPeriod / 2.0)), 0.2);
+  EXPECT_NEAR(out.at("drop_swing_period_s"), kPeriod, 0.01);
+  EXPECT_NEAR(out.at("drop_successive_peak_ratio"), std::exp(-kZ * w * kPeriod), 0.01);
+  EXPECT_NEAR(out.at("drop_damping_ratio"), kZ, 0.1 * kZ);
+}
+
+}  // namespace
