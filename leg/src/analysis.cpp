@@ -65,6 +65,8 @@ void wobble_metrics(const std::vector<double>& t, const std::vector<double>& x, 
   // over kSlowWindow (the settling and the creep, which a straight line does
   // not follow), where the whole window fits.
   const double dt = (tt.back() - tt.front()) / static_cast<double>(n - 1);
+  if (!(dt > 0.0)) return;
+  // 2 h + 1 samples: the odd count nearest kSlowWindow.
   const size_t h = std::max<size_t>(1, static_cast<size_t>(std::lround(0.5 * kSlowWindow / dt)));
   if (n < 2 * h + 8) return;
   std::vector<msd::Vec3> prefix(n + 1, msd::Vec3::Zero());

@@ -66,23 +66,41 @@ TEST(WobbleMetrics, APureRingHasNoSlowMotion) {
   const Probe p = ring_with_creep(0.0);
   std::map<std::string, double> out;
   leg::wobble_metrics(p.t, p.x, p.y, p.z, kT0, out);
-  EXPECT_NEAR(out.at("wobble_frequency_hz"), kF, 0.02 * kF);
+  const double fd = kF * std::sqrt(1.0 - kZeta * kZeta);
+  EXPECT_NEAR(out.at("wobble_frequency_hz"), fd, 0.02 * fd);
   EXPECT_NEAR(out.at("wobble_damping_ratio"), kZeta, 0.15 * kZeta);
   // A decaying ring's moving mean is not quite zero: below a tenth of it.
   EXPECT_LT(out.at("wobble_slow_motion_m"), 0.1 * out.at("wobble_amplitude_m"));
 }
 
-TEST(WobbleMetrics, AddsNothingWhenTheRecordIsShorterThanTheWindow) {
-  Probe p = ring_with_creep(1e-3);
+// At 200 Hz the window's half-width is 50 samples (0.25 s / 5 ms, far from
+// a rounding edge): 2 x 50 + 8 = 108 samples leave the 8 the analysis needs
+// where the whole window fits, 107 leave 7.
+TEST(WobbleMetrics, AddsNothingWithFewerThanEightSamplesWhereTheWholeWindowFits) {
+  const auto run = [](int samples) {
+    std::vector<double> t, x, zero(static_cast<size_t>(samples), 0.0);
+    for (int i = 0; i < samples; ++i) {
+      t.push_back(0.005 * i);
+      x.push_back(1e-4 * std::cos(2.0 * M_PI * 8.0 * t.back()));
+    }
+    std::map<std::string, double> out;
+    leg::wobble_metrics(t, x, zero, zero, 0.0, out);
+    return out;
+  };
+  EXPECT_TRUE(run(107).empty());
+  EXPECT_FALSE(run(108).empty());
+  // Times that do not increase: nothing, not a division by zero.
+  std::vector<double> same(200, 1.0), x(200, 0.0);
   std::map<std::string, double> out;
-  leg::wobble_metrics(p.t, p.x, p.y, p.z, 3.0 - 0.4, out);  // 0.4 s < the 0.5 s window + 8 samples
+  leg::wobble_metrics(same, x, x, x, 0.0, out);
   EXPECT_TRUE(out.empty());
 }
 
 // A pendulum released at 0 deg towards its rest at R: the angle is
 // R (1 - exp(-zeta w s) cos(w_d s)) after the release, so the first swing
-// peaks at R (1 + exp(-zeta w T / 2)) half a period on and the next one
-// period later; the rest is the last fifth's mean.
+// peaks where w_d s = pi - asin(zeta), at R (1 + sqrt(1 - zeta^2)
+// exp(-zeta w s)), and the next one a damped period T later, exp(-zeta w T)
+// as far from rest; the rest is the last fifth's mean.
 TEST(DropMetrics, ReadsTheSwingOfADampedPendulum) {
   constexpr double kRest = 70.0, kRelease = 0.2, kPeriod = 1.1, kZ = 0.07;
   const double wd = 2.0 * M_PI / kPeriod, w = wd / std::sqrt(1.0 - kZ * kZ);
@@ -96,7 +114,9 @@ TEST(DropMetrics, ReadsTheSwingOfADampedPendulum) {
   leg::drop_metrics(t, a, kRelease, out);
   EXPECT_NEAR(out.at("drop_rest_angle_deg"), kRest, 0.5);
   EXPECT_NEAR(out.at("drop_start_angle_deg"), 0.0, 1e-9);
-  EXPECT_NEAR(out.at("drop_first_swing_peak_deg"), kRest * (1.0 + std::exp(-kZ * w * kPeriod / 2.0)), 0.2);
+  const double s1 = (M_PI - std::asin(kZ)) / wd;
+  EXPECT_NEAR(out.at("drop_first_swing_peak_deg"), kRest * (1.0 + std::sqrt(1.0 - kZ * kZ) * std::exp(-kZ * w * s1)),
+              0.02);
   EXPECT_NEAR(out.at("drop_swing_period_s"), kPeriod, 0.01);
   EXPECT_NEAR(out.at("drop_successive_peak_ratio"), std::exp(-kZ * w * kPeriod), 0.01);
   EXPECT_NEAR(out.at("drop_damping_ratio"), kZ, 0.1 * kZ);

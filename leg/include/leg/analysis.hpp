@@ -32,8 +32,13 @@ inline constexpr double kSlowWindow = 0.5;
 /// ring-down: wobble_frequency_hz, wobble_damping_ratio, wobble_amplitude_m
 /// (the ring's largest excursion there) and wobble_peaks; and
 /// wobble_slow_motion_m, the moving mean's largest distance from its first
-/// value (settling, creep). Adds nothing with fewer than 8 samples beyond
-/// the window.
+/// value (settling, creep; from after + kSlowWindow / 2 on). The moving mean
+/// takes 2 h + 1 samples, h = round(kSlowWindow / (2 dt)). Subtracting it
+/// scales a ring at f by |1 - sinc(f kSlowWindow)| (1.05 at 3.8 Hz, 1.21
+/// near 3 Hz): frequencies and damping ratios are kept, amplitudes are not
+/// quite, and below about 2 Hz a ring is weakened rather than removed. Adds
+/// nothing with fewer than 8 samples where the whole window fits, or when
+/// the times do not increase.
 void wobble_metrics(const std::vector<double>& t, const std::vector<double>& x, const std::vector<double>& y,
                     const std::vector<double>& z, double after, std::map<std::string, double>& out);
 
