@@ -71,16 +71,18 @@ void wobble_metrics(const std::vector<double>& t, const std::vector<double>& x, 
   if (n < 2 * h + 8) return;
   std::vector<msd::Vec3> prefix(n + 1, msd::Vec3::Zero());
   for (size_t i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + d[i];
+  const auto trend = [&](size_t i) -> msd::Vec3 {
+    return (prefix[i + h + 1] - prefix[i - h]) / static_cast<double>(2 * h + 1);
+  };
+  const msd::Vec3 first_trend = trend(h);
   std::vector<double> ts;
   std::vector<msd::Vec3> ring;
   double slow = 0.0;
-  msd::Vec3 first_trend = msd::Vec3::Zero();
   for (size_t i = h; i + h < n; ++i) {
-    const msd::Vec3 trend = (prefix[i + h + 1] - prefix[i - h]) / static_cast<double>(2 * h + 1);
-    if (i == h) first_trend = trend;
-    slow = std::max(slow, (trend - first_trend).norm());
+    const msd::Vec3 m = trend(i);
+    slow = std::max(slow, (m - first_trend).norm());
     ts.push_back(tt[i]);
-    ring.push_back(d[i] - trend);
+    ring.push_back(d[i] - m);
   }
   msd::Mat3 cov = msd::Mat3::Zero();
   for (const auto& p : ring) cov += p * p.transpose();

@@ -12,8 +12,8 @@
 
 namespace {
 
-// A ring x(t) = A exp(-zeta w t) cos(w_d t) from t0 along `axis`, plus a
-// creep C (1 - exp(-(t - t0) / tau)) along z, sampled at 250 Hz (the wobble
+// A ring A exp(-zeta w s) cos(w_d s), s = t - t0, along (0.8, 0.6, 0), plus
+// a creep C (1 - exp(-s / tau)) along z, sampled at 250 Hz (the wobble
 // scene's output interval). Before t0 the probe is still.
 struct Probe {
   std::vector<double> t, x, y, z;
