@@ -609,7 +609,7 @@ def pendulum_figure(legf, values, ref, release, complete=True):
     ax.plot(t0 + tau, mid, color="tab:green", lw=1.4, label="healthy: ζ %.3f, T %.2f s [K, T]" % (z_mid, period))
     ax.axhline(plumb, color="tab:green", lw=0.8, ls=":")
     ax.plot(t, a, "k-", lw=1.5, label="model (this run)")
-    rest = values.get("drop_rest_angle_deg") if complete else None
+    rest = values.get("drop_swing_centre_deg", values.get("drop_rest_angle_deg")) if complete else None
     if rest is not None:
         ax.axhline(rest, color="k", lw=0.8, ls=":")
     ax.axvline(t0, color="0.5", lw=0.8, ls="--")
@@ -653,7 +653,7 @@ def pendulum_figure(legf, values, ref, release, complete=True):
         "was available: the green curve is this model of the published numbers, not a measured trace, and "
         "no published spread of the period was found (the band is the damping's spread only). Real legs are "
         "not linear: trace [T] loses less on its first swing (RI %.2f) and more on the next half swing. "
-        "Dotted lines: the run's rest angle (black) and the plumb (green). Right: each extreme's distance "
+        "Dotted lines: the run's rest angle (black: the centre its swing decays towards) and the plumb (green). Right: each extreme's distance "
         "from rest over the start's, by half swing: the model (about its own rest), trace [T]'s published "
         "extremes (its first four flexion peaks and first extension peak; start %.2f rad, end %.3f rad), and "
         "the linear oscillator with RI ± 1 SD [K]."

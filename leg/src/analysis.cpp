@@ -8,8 +8,38 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 namespace leg {
+
+std::optional<double> swing_centre(const std::vector<double>& a, double least_swing) {
+  // The turning points, alternating by construction: a plateau's value is
+  // taken once, where the direction changes.
+  std::vector<double> e;
+  int direction = 0;
+  for (size_t i = 0; i + 1 < a.size(); ++i) {
+    const double d = a[i + 1] - a[i];
+    const int s = (d > 0.0) - (d < 0.0);
+    if (s == 0) continue;
+    if (direction != 0 && s != direction) e.push_back(a[i]);
+    direction = s;
+  }
+  // Aitken's estimate over each three successive turning points whose swings
+  // are both at least least_swing: e3 - (e3 - e2)^2 / ((e3 - e2) - (e2 - e1)).
+  // The swings have opposite signs, so the denominator is at least
+  // least_swing in size.
+  std::vector<double> estimates;
+  for (size_t k = 0; k + 2 < e.size(); ++k) {
+    const double d1 = e[k + 1] - e[k], d2 = e[k + 2] - e[k + 1];
+    if (std::abs(d1) < least_swing || std::abs(d2) < least_swing) continue;
+    estimates.push_back(e[k + 2] - d2 * d2 / (d2 - d1));
+  }
+  if (estimates.empty()) return std::nullopt;
+  const auto mid = estimates.begin() + static_cast<std::ptrdiff_t>(estimates.size() / 2);
+  std::nth_element(estimates.begin(), mid, estimates.end());
+  if (estimates.size() % 2 == 1) return *mid;
+  return 0.5 * (*mid + *std::max_element(estimates.begin(), mid));
+}
 
 void drop_metrics(const std::vector<double>& t, const std::vector<double>& angle_deg, double release,
                   std::map<std::string, double>& out) {
@@ -45,6 +75,9 @@ void drop_metrics(const std::vector<double>& t, const std::vector<double>& angle
   for (double p : peaks)
     if (p - rest > 0.02 * (peaks[0] - rest) && p - rest > 1.0) ++oscillations;
   out["drop_oscillations"] = oscillations;
+  if (!peaks.empty())
+    if (const auto centre = swing_centre(aa, 0.02 * std::abs(peaks[0] - aa.front())))
+      out["drop_swing_centre_deg"] = *centre;
   const tbio::RingDown r = tbio::analyse_ring_down(tt, aa);
   out["drop_frequency_hz"] = r.frequency;
   out["drop_damping_ratio"] = r.damping_ratio;

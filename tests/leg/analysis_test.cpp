@@ -122,4 +122,48 @@ TEST(DropMetrics, ReadsTheSwingOfADampedPendulum) {
   EXPECT_NEAR(out.at("drop_damping_ratio"), kZ, 0.1 * kZ);
 }
 
+// The same pendulum recorded for only 3.8 s after the release: the leg still
+// swings (about 8 deg about rest) in the record's last fifth, whose mean is
+// then off; the turning points still give the centre, to the samples' timing.
+TEST(DropMetrics, FindsTheSwingsCentreBeforeTheSwingDiesOut) {
+  constexpr double kRest = 70.0, kRelease = 0.2, kPeriod = 1.1, kZ = 0.07;
+  const double wd = 2.0 * M_PI / kPeriod, w = wd / std::sqrt(1.0 - kZ * kZ);
+  std::vector<double> t, a;
+  for (int i = 0; i <= 1000; ++i) {
+    const double ti = 0.004 * i, s = std::max(0.0, ti - kRelease);
+    t.push_back(ti);
+    a.push_back(kRest * (1.0 - std::exp(-kZ * w * s) * std::cos(wd * s)));
+  }
+  std::map<std::string, double> out;
+  leg::drop_metrics(t, a, kRelease, out);
+  EXPECT_GT(std::abs(out.at("drop_rest_angle_deg") - kRest), 1.0);  // the end's mean is not the rest here
+  EXPECT_NEAR(out.at("drop_swing_centre_deg"), kRest, 0.05);
+}
+
+// Exactly geometric turning points about 3 (ratio -0.5), with a plateau at
+// the first turn: every three give 3. Swings below least_swing are not used.
+TEST(SwingCentre, IsExactForGeometricTurningPointsAndSkipsSmallSwings) {
+  // Turning points 3 + 4 (-0.5)^k = 7, 1, 4, 2.5, 3.25 (swings 6, 3, 1.5,
+  // 0.75), the first on a plateau.
+  const std::vector<double> g = {0.0, 4.0, 7.0, 7.0, 3.0, 1.0, 2.0, 4.0, 3.0, 2.5, 2.9, 3.25, 3.1};
+  const auto c = leg::swing_centre(g, 0.1);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_NEAR(*c, 3.0, 1e-12);
+  // least_swing 1.0: the last three (swing 0.75) are left out; still 3.
+  EXPECT_NEAR(*leg::swing_centre(g, 1.0), 3.0, 1e-12);
+  // least_swing 4.0: no three qualify.
+  EXPECT_FALSE(leg::swing_centre(g, 4.0).has_value());
+  // Two estimates, 3 from (7, 1, 4) and 1.5 + 6.25 / 5.5 from (1, 4, 1.5):
+  // their median is their mean.
+  EXPECT_NEAR(*leg::swing_centre({0.0, 7.0, 1.0, 4.0, 1.5, 2.0}, 0.1), 0.5 * (3.0 + 1.5 + 6.25 / 5.5), 1e-12);
+}
+
+TEST(SwingCentre, IsNothingWithoutThreeTurningPoints) {
+  EXPECT_FALSE(leg::swing_centre({}, 0.0).has_value());
+  EXPECT_FALSE(leg::swing_centre({0.0, 1.0, 2.0, 3.0}, 0.0).has_value());        // no turn
+  EXPECT_FALSE(leg::swing_centre({0.0, 2.0, 1.0, 1.0, 1.0}, 0.0).has_value());   // one turn
+  EXPECT_FALSE(leg::swing_centre({0.0, 2.0, 1.0, 1.5, 1.5}, 0.0).has_value());   // two turns
+  EXPECT_TRUE(leg::swing_centre({0.0, 2.0, 1.0, 1.5, 1.2}, 0.0).has_value());    // three
+}
+
 }  // namespace

@@ -6,6 +6,7 @@
 #include "leg/scene.hpp"
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,10 +15,26 @@ namespace leg {
 /// Recorded series by column name, all of one length.
 using Recorded = std::map<std::string, std::vector<double>>;
 
+/// The value a decaying swing `a` (samples in time order) turns about, from
+/// its turning points e_k (the samples where its direction changes): for a
+/// linear damped oscillation about c, e_k - c = (-q)^k A exactly, so each
+/// three successive turning points give c by Aitken's delta-squared formula,
+///   c = e3 - (e3 - e2)^2 / ((e3 - e2) - (e2 - e1))
+/// (Aitken 1926, Proc R Soc Edinb 46:289). The median over every three whose
+/// two swings are both at least least_swing (the same units as a) is
+/// returned; nothing when no three qualify. Unlike a mean over the record's
+/// end, it does not need the swing to have died out.
+std::optional<double> swing_centre(const std::vector<double>& a, double least_swing);
+
 /// Peaks of the knee angle (deg) about its final rest value after `release`
 /// (the pendulum test's swing): rest and start angles, first swing, successive
 /// peak ratio, swing period, oscillations, frequency and damping ratio. Adds
-/// nothing when fewer than five samples follow the release.
+/// nothing when fewer than five samples follow the release. The rest
+/// (drop_rest_angle_deg) is the mean of the last fifth of the record, which is
+/// off by what the leg still swings there; drop_swing_centre_deg is the angle
+/// the swing decays towards (swing_centre, over turning points whose swings
+/// are at least 2 % of the first swing), added when three such turning points
+/// exist.
 void drop_metrics(const std::vector<double>& t, const std::vector<double>& angle_deg, double release,
                   std::map<std::string, double>& out);
 
