@@ -39,7 +39,7 @@ int cmd_mesh(const MeshArgs& args) {
 int cmd_leg(const LegArgs& args) {
   const std::string file =
       args.scene.empty() ? std::string(TISSUEBENCH_DATA_DIR) + "/scenes/hamstrings.yaml" : args.scene;
-  leg::LegScene scene = leg::read_leg_scene(file);
+  leg::LegScene scene = leg::read_leg_scene(file, args.set);
   if (args.duration > 0.0) {
     if (args.duration < 10.0 * scene.dt)
       throw msd::Error("--duration: " + tbio::json_number(args.duration) + " s is fewer than ten steps of the scene's dt (" +
@@ -179,6 +179,12 @@ void add_leg_commands(CLI::App& cli, LegCommands& c) {
   c.leg_cmd->add_option("--obj-every", c.leg.obj_every, "Write the skin as OBJ every n-th frame (0: none)")
       ->check(app::integer_in(0, 1000000000, "frames"));
   c.leg_cmd->add_flag("--quiet", c.leg.quiet, "No progress line");
+  c.leg_cmd->add_option("--set", c.leg.set,
+                        "KEY=VALUE: replace (or add) one field of the scene file for this run, KEY a dotted field "
+                        "(--set knee.damping=0.14 --set materials.passive.youngs_modulus=11960); checked as if the "
+                        "file said so, and listed in summary.json's scene_overrides")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   c.leg_cmd->add_option("--checkpoint-every", c.leg.checkpoint_every,
                         "Write a checkpoint (DIR/leg.checkpoint) every this many simulated seconds; removed when "
                         "the run completes (DIR/VARIANT/leg.checkpoint for each variant of a scene with variants)")

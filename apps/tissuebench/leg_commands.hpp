@@ -11,6 +11,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace app {
 
@@ -27,6 +28,7 @@ struct LegArgs {
   bool quiet = false;
   double checkpoint_every = 0.0;   ///< simulated seconds between checkpoints (DIR/leg.checkpoint); 0: none
   std::string resume;              ///< a checkpoint to continue from
+  std::vector<std::string> set;    ///< KEY=VALUE fields replacing the scene file's (leg::read_leg_scene)
 };
 /// Runs a leg scene (tissuebench leg SCENE.yaml --out DIR). Exit 1 when the
 /// simulation blew up (its files keep what was written, marked failed).

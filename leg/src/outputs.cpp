@@ -131,6 +131,7 @@ tbio::Json summary_json(const LegRunSummary& s, const LegScene& scene) {
   tbio::Json j;
   j["scene"] = scene.name;
   j["scene_file"] = scene.file;
+  if (!scene.overrides.empty()) j["scene_overrides"] = scene.overrides;  // the file was not run as shipped
   j["variant"] = s.variant;
   j["status"] = s.status;
   if (!s.failure.empty()) j["failure"] = s.failure;

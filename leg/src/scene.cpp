@@ -409,12 +409,44 @@ void read_variants(const Fields& f, const std::string& path, LegScene& s) {
   if (s.script) throw msd::Error(f.where("variants") + "variants set constant activations; the scene also has a script");
 }
 
-}  // namespace
+// One --set KEY=VALUE applied to the parsed scene: KEY a dotted path of
+// mapping keys (sections are made when missing), VALUE parsed as YAML.
+void apply_override(YAML::Node& root, const std::string& path, const std::string& assignment) {
+  const std::string where = "--set " + assignment + ": ";
+  const size_t eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) throw msd::Error(where + "give KEY=VALUE, KEY a dotted field of the scene (knee.damping=0.1)");
+  const std::string key = assignment.substr(0, eq), text = assignment.substr(eq + 1);
+  std::vector<std::string> parts;
+  for (size_t from = 0;;) {
+    const size_t dot = key.find('.', from);
+    parts.push_back(key.substr(from, dot == std::string::npos ? std::string::npos : dot - from));
+    if (parts.back().empty()) throw msd::Error(where + "'" + key + "' has an empty field name");
+    if (dot == std::string::npos) break;
+    from = dot + 1;
+  }
+  YAML::Node value;
+  try {
+    value = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw msd::Error(where + "the value is not YAML (" + e.msg + ")");
+  }
+  if (text.empty() || value.IsNull()) throw msd::Error(where + "no value (an empty or null value would remove the field)");
+  YAML::Node node;
+  node.reset(root);
+  std::string walked;
+  for (size_t i = 0; i + 1 < parts.size(); ++i) {
+    walked += (i ? "." : "") + parts[i];
+    YAML::Node next = node[parts[i]];
+    if (next.IsDefined() && !next.IsNull() && !next.IsMap())
+      throw msd::Error(where + path + ": '" + walked + "' is not a section (a mapping) that '" + key + "' could be in");
+    if (!next.IsDefined() || next.IsNull()) node[parts[i]] = YAML::Node(YAML::NodeType::Map);
+    YAML::Node child = node[parts[i]];
+    node.reset(child);
+  }
+  node[parts.back()] = value;
+}
 
-LegScene read_leg_scene(const std::string& path) {
-  const std::string text = msd::read_input_file(path, "scene file");
-  const YAML::Node root = tbio::parse_yaml(text, path);
-  if (!root || !root.IsMap()) throw msd::Error(path + ": the scene must be a YAML mapping");
+LegScene scene_from(const YAML::Node& root, const std::string& path, const std::string& text) {
   const Fields f(root, "", path);
   f.only({"name", "description", "geometry", "mesh_pull", "duration", "dt", "integrator", "newton", "output_interval", "gravity", "terms",
           "nonlinear_threshold", "threads", "forces", "materials", "knee", "hip", "tendons", "muscles", "contact", "analysis", "variants",
@@ -449,6 +481,29 @@ LegScene read_leg_scene(const std::string& path) {
     s.obj_every = static_cast<int>(tbio::read_integer(*out, leg_scene_parameter("outputs.obj_every")));
   }
   return s;
+}
+
+}  // namespace
+
+LegScene read_leg_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::string text = msd::read_input_file(path, "scene file");
+  YAML::Node root = tbio::parse_yaml(text, path);
+  if (!root || !root.IsMap()) throw msd::Error(path + ": the scene must be a YAML mapping");
+  std::string set;
+  for (const std::string& o : overrides) {
+    apply_override(root, path, o);
+    text += "\n# --set " + o;  // the run's inputs (a checkpoint's identity) include what was set
+    set += (set.empty() ? "" : " ") + ("--set " + o);
+  }
+  try {
+    LegScene s = scene_from(root, path, text);
+    s.overrides = overrides;
+    return s;
+  } catch (const msd::Error& e) {
+    if (set.empty()) throw;
+    // A field set on the command line has no line in the file: say so.
+    throw msd::Error(std::string(e.what()) + " (the file as changed by " + set + ")");
+  }
 }
 
 }  // namespace leg

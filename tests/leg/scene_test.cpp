@@ -2,6 +2,7 @@
 // checks, and what a short run writes - HDF5 series and fields, XDMF that
 // points at datasets which exist, OBJ frames, the summary - and what a blown-up
 // run leaves behind.
+#include "leg/outputs.hpp"
 #include "leg/run.hpp"
 #include "leg/scene.hpp"
 #include "msd/geometry/leg_generator.hpp"
@@ -83,6 +84,55 @@ TEST(LegScene, TheNineShippedScenesRead) {
   EXPECT_TRUE(e.model.knee_contact_box.has_value());
   const leg::LegScene w = leg::read_leg_scene(scenes() + "wobble.yaml");
   EXPECT_EQ(w.variants.size(), 2u);
+}
+
+// --set KEY=VALUE (tissuebench leg --set): a field replaced or added as if
+// the file said so, kept in the scene's overrides and text (a checkpoint's
+// identity), and checked by the same rules as the file's own fields.
+TEST(LegScene, SetReplacesOrAddsAFieldAsIfTheFileSaidSo) {
+  const std::string file = scenes() + "gravity.yaml";
+  const leg::LegScene plain = leg::read_leg_scene(file);
+  const leg::LegScene s = leg::read_leg_scene(
+      file, {"knee.damping=0.3", "materials.passive.youngs_modulus=5000", "outputs.obj_every=7"});
+  EXPECT_NE(plain.model.joint_damping, 0.3);
+  EXPECT_DOUBLE_EQ(s.model.joint_damping, 0.3);
+  EXPECT_NE(plain.model.passive.youngs_modulus, 5000.0);
+  EXPECT_DOUBLE_EQ(s.model.passive.youngs_modulus, 5000.0);
+  EXPECT_EQ(s.obj_every, 7);
+  EXPECT_DOUBLE_EQ(s.model.passive.density, plain.model.passive.density);  // the rest as the file says
+  EXPECT_EQ(s.overrides.size(), 3u);
+  EXPECT_TRUE(plain.overrides.empty());
+  EXPECT_NE(s.text.find("# --set knee.damping=0.3"), std::string::npos);
+  EXPECT_EQ(plain.text.find("--set"), std::string::npos);
+  // The summary says the file was not run as shipped.
+  const tbio::Json j = leg::summary_json(leg::LegRunSummary{}, s);
+  ASSERT_TRUE(j.contains("scene_overrides"));
+  EXPECT_EQ(j["scene_overrides"][0], "knee.damping=0.3");
+  EXPECT_FALSE(leg::summary_json(leg::LegRunSummary{}, plain).contains("scene_overrides"));
+  // The last of two settings of one field holds.
+  EXPECT_DOUBLE_EQ(leg::read_leg_scene(file, {"knee.damping=0.3", "knee.damping=0.5"}).model.joint_damping, 0.5);
+}
+
+TEST(LegScene, SetRefusesWhatTheFileWouldNotHoldNamingTheSetting) {
+  const std::string file = scenes() + "gravity.yaml";
+  const auto error = [&](const std::string& o) {
+    try {
+      leg::read_leg_scene(file, {o});
+    } catch (const msd::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  for (const char* o : {"knee.damping", "=1", "knee..damping=1", "knee.damping=[1,", "knee.damping=", "name.x=1"}) {
+    const std::string e = error(o);
+    EXPECT_NE(e.find(std::string("--set ") + o), std::string::npos) << o << ": " << e;
+  }
+  // Out of range and unknown: the file's own messages, naming the field and the setting.
+  std::string e = error("knee.damping=-1");
+  EXPECT_NE(e.find("knee.damping: must lie in"), std::string::npos) << e;
+  EXPECT_NE(e.find("--set knee.damping=-1"), std::string::npos) << e;
+  e = error("knee.dampingg=1");
+  EXPECT_NE(e.find("knee.dampingg: unknown field"), std::string::npos) << e;
 }
 
 TEST(LegScene, BadScenesAreRefusedNamingTheFileTheLineAndTheField) {

@@ -35,6 +35,7 @@ struct LegVariant {
 
 struct LegScene {
   std::string name, description, file, text;
+  std::vector<std::string> overrides;  ///< --set KEY=VALUE applied to the file (read_leg_scene)
   std::string geometry;  ///< mesh scene (YAML)
   bool mesh_pull = true; ///< false: the geometry's pull areas are ignored
   double duration = 0.0, dt = 0.0, output_interval = 0.04;
@@ -73,6 +74,11 @@ const tbio::Parameter& leg_scene_parameter(const std::string& path);
 /// Reads a scene. Throws msd::Error "FILE:LINE:COL: field: what" for a missing
 /// or unknown field, a value out of range, a script with errors (its own
 /// file and line), or an output interval that is not a whole number of steps.
-LegScene read_leg_scene(const std::string& path);
+/// `overrides` ("KEY=VALUE", KEY a dotted field such as knee.damping or
+/// materials.passive.youngs_modulus, VALUE YAML) replace or add fields before
+/// the scene is checked, as if the file said so (a missing section is made);
+/// a malformed one throws msd::Error "--set KEY=VALUE: what". They are kept in
+/// LegScene::overrides and appended to LegScene::text.
+LegScene read_leg_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 
 }  // namespace leg
