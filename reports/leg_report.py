@@ -609,7 +609,11 @@ def pendulum_figure(legf, values, ref, release, complete=True):
     ax.plot(t0 + tau, mid, color="tab:green", lw=1.4, label="healthy: ζ %.3f, T %.2f s [K, T]" % (z_mid, period))
     ax.axhline(plumb, color="tab:green", lw=0.8, ls=":")
     ax.plot(t, a, "k-", lw=1.5, label="model (this run)")
-    rest = values.get("drop_swing_centre_deg", values.get("drop_rest_angle_deg")) if complete else None
+    rest = None
+    if complete:  # the swing's centre where the run has one (null when not finite), else the end's mean
+        rest = values.get("drop_swing_centre_deg")
+        if rest is None:
+            rest = values.get("drop_rest_angle_deg")
     if rest is not None:
         ax.axhline(rest, color="k", lw=0.8, ls=":")
     ax.axvline(t0, color="0.5", lw=0.8, ls="--")

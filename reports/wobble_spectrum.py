@@ -23,9 +23,13 @@ quadratic fit (the slow creep; leg::wobble_metrics uses a 0.5 s moving mean
 instead), times a Hann window, zero-padded to four times its length, its FFT
 magnitude; the N largest local maxima above 1 Hz are printed with their
 magnitude relative to the axis' largest, and the axis' RMS. Peaks closer than
-the record's frequency resolution (1 / its length: 0.36 Hz for 2.75 s) are not
-resolved from each other.
+about twice the record's frequency resolution (2 / its length with the Hann
+window: 0.7 Hz for 2.75 s) are not resolved from each other.
+
+Bad input (a folder without leg.csv or without the probe's columns, too
+short a record, a bad option): a message naming it, exit 2.
 """
+import argparse
 import json
 import os
 import sys
@@ -51,37 +55,53 @@ def peaks(t, x, count=4, least_hz=1.0):
 
 
 def stop_time(run_dir, default=2.25):
-    """analysis.wobble.after of the scene the run's summary.json names (a variant's folder: its parent's)."""
+    """(analysis.wobble.after, the scene file it came from) for the scene the run's summary.json names
+    (a variant's folder: its parent's); (default, None) when it cannot be read."""
     for path in (os.path.join(run_dir, "summary.json"), os.path.join(os.path.dirname(os.path.abspath(run_dir)), "summary.json")):
         try:
             with open(path) as fh:
                 summary = json.load(fh)
             variants = list(summary.get("variants", {}).values())
-            scene_file = summary.get("scene_file") or (variants[0].get("scene_file") if variants else None)
+            entry = summary if summary.get("scene_file") else (variants[0] if variants else {})
+            scene_file = entry.get("scene_file")
+            for o in entry.get("scene_overrides", []):  # tissuebench leg --set analysis.wobble.after=...
+                if o.startswith("analysis.wobble.after="):
+                    return float(o.split("=", 1)[1]), scene_file + " as changed by --set " + o
             import yaml  # Debian's python3-yaml, beside numpy
 
             with open(scene_file) as fh:
-                return float(yaml.safe_load(fh)["analysis"]["wobble"]["after"])
+                return float(yaml.safe_load(fh)["analysis"]["wobble"]["after"]), scene_file
         except (OSError, KeyError, TypeError, ValueError, IndexError, ImportError, AttributeError):
             continue
-    return default
+    return default, None
+
+
+def fail(message):
+    print("wobble_spectrum: error: " + message, file=sys.stderr)
+    sys.exit(2)
 
 
 def read_probe(run_dir):
     path = os.path.join(run_dir, "leg.csv")
+    if not os.path.isfile(path):
+        fail("%s: no such file (give a leg run's folder; with variants, DIR/VARIANT)" % path)
     d = np.genfromtxt(path, delimiter=",", names=True)
     for name in ("time", "probe_x", "probe_y", "probe_z"):
-        if name not in d.dtype.names:
-            sys.exit("wobble_spectrum: %s has no column %s (a scene without analysis.wobble?)" % (path, name))
+        if d.dtype.names is None or name not in d.dtype.names:
+            fail("%s has no column %s (a scene without analysis.wobble?)" % (path, name))
     return d
 
 
 def report(run_dir, after, count):
     d = read_probe(run_dir)
+    source = "--after"
+    if after is None:
+        after, scene = stop_time(run_dir)
+        source = "analysis.wobble.after of " + scene if scene else "the default: the scene could not be read"
     m = d["time"] >= after
     if m.sum() < 64:
-        sys.exit("wobble_spectrum: %s: fewer than 64 samples after %.3f s" % (run_dir, after))
-    print("%s (after %.3f s, %.2f s of record):" % (run_dir, after, d["time"][m][-1] - after))
+        fail("%s: fewer than 64 samples after %.3f s" % (run_dir, after))
+    print("%s (after %.3f s, %s; %.2f s of record):" % (run_dir, after, source, d["time"][m][-1] - after))
     for axis in "xyz":
         top, rms = peaks(d["time"][m], d["probe_" + axis][m], count)
         print("  %s: %s   rms %.3g mm" % (axis, ", ".join("%.1f Hz (%.2f)" % p for p in top), 1e3 * rms))
@@ -96,7 +116,7 @@ def self_test():
     top, _ = peaks(t, x, 2)
     found = sorted(p[0] for p in top)
     assert abs(found[0] - 2.0) < 0.2 and abs(found[1] - 5.0) < 0.2, found
-    assert top[0][1] == 1.0 and abs(top[0][0] - 5.0) < 0.2, top  # the larger mode first
+    assert abs(top[0][0] - 5.0) < 0.2 and top[1][1] < 1.0, top  # the larger mode first
     # One mode only: its peak leads by far.
     top, _ = peaks(t, ring(1e-3, 7.0, 0.02), 2)
     assert abs(top[0][0] - 7.0) < 0.2 and top[1][1] < 0.2, top
@@ -107,22 +127,17 @@ def main(argv):
     if argv[1:] == ["--self-test"]:
         self_test()
         return
-    args, after, count = [], None, 4
-    i = 1
-    while i < len(argv):
-        if argv[i] == "--after":
-            after = float(argv[i + 1])
-            i += 2
-        elif argv[i] == "--peaks":
-            count = int(argv[i + 1])
-            i += 2
-        else:
-            args.append(argv[i])
-            i += 1
-    if not args:
-        sys.exit(__doc__)
-    for run_dir in args:
-        report(run_dir, after if after is not None else stop_time(run_dir), count)
+    parser = argparse.ArgumentParser(prog="wobble_spectrum.py", description=__doc__.split("\n")[0])
+    parser.add_argument("runs", nargs="+", metavar="RUN_DIR", help="a leg run's folder (with variants: DIR/VARIANT)")
+    parser.add_argument("--after", type=float, help="the stop, s (default: the scene's analysis.wobble.after)")
+    parser.add_argument("--peaks", type=int, default=4, help="peaks per axis (default 4)")
+    a = parser.parse_args(argv[1:])  # a bad option: usage and exit 2
+    if a.peaks < 1:
+        parser.error("--peaks must be at least 1")
+    if a.after is not None and not np.isfinite(a.after):
+        parser.error("--after must be a finite number of seconds")
+    for run_dir in a.runs:
+        report(run_dir, a.after, a.peaks)
 
 
 if __name__ == "__main__":

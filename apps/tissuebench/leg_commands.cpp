@@ -184,6 +184,7 @@ void add_leg_commands(CLI::App& cli, LegCommands& c) {
                         "(--set knee.damping=0.14 --set materials.passive.youngs_modulus=11960); checked as if the "
                         "file said so, and listed in summary.json's scene_overrides")
       ->expected(1)
+      ->allow_extra_args(false)  // one KEY=VALUE per --set: `--set a=1 scene.yaml` keeps the scene
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   c.leg_cmd->add_option("--checkpoint-every", c.leg.checkpoint_every,
                         "Write a checkpoint (DIR/leg.checkpoint) every this many simulated seconds; removed when "

@@ -13,16 +13,27 @@
 namespace leg {
 
 std::optional<double> swing_centre(const std::vector<double>& a, double least_swing) {
-  // The turning points, alternating by construction: a plateau's value is
-  // taken once, where the direction changes.
+  // The turning points, alternating by construction, with hysteresis: the
+  // running extreme becomes a turning point once the signal has come back
+  // from it by more than least_swing, so noise smaller than that does not
+  // split one turn into several.
   std::vector<double> e;
-  int direction = 0;
-  for (size_t i = 0; i + 1 < a.size(); ++i) {
-    const double d = a[i + 1] - a[i];
-    const int s = (d > 0.0) - (d < 0.0);
-    if (s == 0) continue;
-    if (direction != 0 && s != direction) e.push_back(a[i]);
-    direction = s;
+  if (a.empty()) return std::nullopt;
+  int direction = 0;  // +1 rising, -1 falling, 0 not yet known
+  double extreme = a.front(), low = a.front(), high = a.front();
+  for (double v : a) {
+    if (direction == 0) {
+      low = std::min(low, v);
+      high = std::max(high, v);
+      if (v - low > least_swing) direction = +1, extreme = v;
+      else if (high - v > least_swing) direction = -1, extreme = v;
+    } else if (direction > 0) {
+      if (v >= extreme) extreme = v;
+      else if (extreme - v > least_swing) e.push_back(extreme), direction = -1, extreme = v;
+    } else {
+      if (v <= extreme) extreme = v;
+      else if (v - extreme > least_swing) e.push_back(extreme), direction = +1, extreme = v;
+    }
   }
   // Aitken's estimate over each three successive turning points whose swings
   // are both at least least_swing: e3 - (e3 - e2)^2 / ((e3 - e2) - (e2 - e1)).

@@ -409,6 +409,23 @@ void read_variants(const Fields& f, const std::string& path, LegScene& s) {
   if (s.script) throw msd::Error(f.where("variants") + "variants set constant activations; the scene also has a script");
 }
 
+// A copy of `n` made of new nodes, which carry no position: a message about
+// a value set on the command line then names no line of the scene file.
+YAML::Node unmarked(const YAML::Node& n) {
+  if (n.IsScalar()) return YAML::Node(n.Scalar());
+  if (n.IsSequence()) {
+    YAML::Node out(YAML::NodeType::Sequence);
+    for (const YAML::Node& child : n) out.push_back(unmarked(child));
+    return out;
+  }
+  if (n.IsMap()) {
+    YAML::Node out(YAML::NodeType::Map);
+    for (const auto& kv : n) out[kv.first.Scalar()] = unmarked(kv.second);
+    return out;
+  }
+  return YAML::Node();
+}
+
 // One --set KEY=VALUE applied to the parsed scene: KEY a dotted path of
 // mapping keys (sections are made when missing), VALUE parsed as YAML.
 void apply_override(YAML::Node& root, const std::string& path, const std::string& assignment) {
@@ -424,12 +441,13 @@ void apply_override(YAML::Node& root, const std::string& path, const std::string
     if (dot == std::string::npos) break;
     from = dot + 1;
   }
-  YAML::Node value;
+  YAML::Node parsed;
   try {
-    value = YAML::Load(text);
+    parsed = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw msd::Error(where + "the value is not YAML (" + e.msg + ")");
   }
+  const YAML::Node value = unmarked(parsed);
   if (text.empty() || value.IsNull()) throw msd::Error(where + "no value (an empty or null value would remove the field)");
   YAML::Node node;
   node.reset(root);
@@ -492,8 +510,16 @@ LegScene read_leg_scene(const std::string& path, const std::vector<std::string>&
   std::string set;
   for (const std::string& o : overrides) {
     apply_override(root, path, o);
-    text += "\n# --set " + o;  // the run's inputs (a checkpoint's identity) include what was set
     set += (set.empty() ? "" : " ") + ("--set " + o);
+  }
+  // The scene as run (the results' /meta, a checkpoint's identity): with
+  // settings, the changed scene itself, so that a reader of the text sees
+  // the values the run used, then what was set.
+  if (!overrides.empty()) {
+    YAML::Emitter e;
+    e << root;
+    text = "# " + path + " as changed by " + set + "\n" + e.c_str() + "\n";
+    for (const std::string& o : overrides) text += "# --set " + o + "\n";
   }
   try {
     LegScene s = scene_from(root, path, text);

@@ -36,6 +36,19 @@ TEST(CliInput, LegOptionsAreCheckedForRangeAndFiniteness) {
   EXPECT_FALSE(std::filesystem::exists(dir.file("leg")));
 }
 
+// --set takes one KEY=VALUE each time, before or after the scene; a bad one
+// is refused naming the scene file it changed (not the default scene's).
+TEST(CliInput, LegSetTakesOneFieldEachTimeAndIsChecked) {
+  testing_support::TempDir dir("cli_input_set");
+  const std::string scene = std::string(TISSUEBENCH_DATA_DIR) + "/scenes/gravity.yaml";
+  const std::string out = " --out " + dir.file("leg");
+  expect_refused("leg --set knee.damping=-1 " + scene + out, "gravity.yaml: knee.damping: must lie in");
+  expect_refused("leg --set knee.damping=-1 " + scene + out, "--set knee.damping=-1");
+  expect_refused("leg " + scene + " --set knee.damping=0.1 --set knee.damping=-2" + out, "got -2");
+  expect_refused("leg " + scene + " --set knee.damping" + out, "--set knee.damping: give KEY=VALUE");
+  EXPECT_FALSE(std::filesystem::exists(dir.file("leg")));
+}
+
 TEST(CliInput, GeometryViewAndServeOptionsAreChecked) {
   testing_support::TempDir dir("cli_input");
   const std::string out = " --out " + dir.file("g");

@@ -104,6 +104,13 @@ TEST(LegScene, SetReplacesOrAddsAFieldAsIfTheFileSaidSo) {
   EXPECT_TRUE(plain.overrides.empty());
   EXPECT_NE(s.text.find("# --set knee.damping=0.3"), std::string::npos);
   EXPECT_EQ(plain.text.find("--set"), std::string::npos);
+  // The text is the scene as run: a reader of the results' /meta sees the
+  // values set, and the rest as the file has them.
+  const YAML::Node run = YAML::Load(s.text);
+  EXPECT_DOUBLE_EQ(run["knee"]["damping"].as<double>(), 0.3);
+  EXPECT_DOUBLE_EQ(run["materials"]["passive"]["youngs_modulus"].as<double>(), 5000.0);
+  EXPECT_EQ(run["name"].as<std::string>(), "gravity");
+  EXPECT_DOUBLE_EQ(run["duration"].as<double>(), YAML::Load(plain.text)["duration"].as<double>());
   // The summary says the file was not run as shipped.
   const tbio::Json j = leg::summary_json(leg::LegRunSummary{}, s);
   ASSERT_TRUE(j.contains("scene_overrides"));
@@ -129,7 +136,7 @@ TEST(LegScene, SetRefusesWhatTheFileWouldNotHoldNamingTheSetting) {
   }
   // Out of range and unknown: the file's own messages, naming the field and the setting.
   std::string e = error("knee.damping=-1");
-  EXPECT_NE(e.find("knee.damping: must lie in"), std::string::npos) << e;
+  EXPECT_NE(e.find("gravity.yaml: knee.damping: must lie in"), std::string::npos) << e;  // no line: not the file's
   EXPECT_NE(e.find("--set knee.damping=-1"), std::string::npos) << e;
   e = error("knee.dampingg=1");
   EXPECT_NE(e.find("knee.dampingg: unknown field"), std::string::npos) << e;

@@ -16,7 +16,8 @@ namespace leg {
 using Recorded = std::map<std::string, std::vector<double>>;
 
 /// The value a decaying swing `a` (samples in time order) turns about, from
-/// its turning points e_k (the samples where its direction changes): for a
+/// its turning points e_k (its extremes between reversals of more than
+/// least_swing, so that smaller noise does not split a turn): for a
 /// linear damped oscillation about c, e_k - c = (-q)^k A exactly, so each
 /// three successive turning points give c by Aitken's delta-squared formula,
 ///   c = e3 - (e3 - e2)^2 / ((e3 - e2) - (e2 - e1))

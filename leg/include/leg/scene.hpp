@@ -78,7 +78,8 @@ const tbio::Parameter& leg_scene_parameter(const std::string& path);
 /// materials.passive.youngs_modulus, VALUE YAML) replace or add fields before
 /// the scene is checked, as if the file said so (a missing section is made);
 /// a malformed one throws msd::Error "--set KEY=VALUE: what". They are kept in
-/// LegScene::overrides and appended to LegScene::text.
+/// LegScene::overrides, and LegScene::text is then the changed scene (YAML,
+/// without the file's comments) followed by a "# --set KEY=VALUE" line each.
 LegScene read_leg_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 
 }  // namespace leg
