@@ -28,6 +28,7 @@ const std::vector<std::string> kGuardedLegValues{
     "drop_swing_period_s",          "drop_successive_peak_ratio",
     "drop_damping_ratio",           "drop_first_swing_amplitude_deg",
     "drop_rest_angle_deg",          "drop_oscillations",
+    "drop_swing_centre_deg",
     "back_muscle_length_ratio_min", "back_muscle_radius_ratio_max",
     "tendon_back_lower_straightness_max", "tendon_back_lower_tension_max_N",
     "bulge_back_of_thigh_max_m"};
