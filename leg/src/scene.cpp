@@ -513,13 +513,14 @@ LegScene read_leg_scene(const std::string& path, const std::vector<std::string>&
     set += (set.empty() ? "" : " ") + ("--set " + o);
   }
   // The scene as run (the results' /meta, a checkpoint's identity): with
-  // settings, the changed scene itself, so that a reader of the text sees
-  // the values the run used, then what was set.
+  // settings, what was set (one comment line each), then the changed scene
+  // itself, so that a reader of the text sees the values the run used.
   if (!overrides.empty()) {
     YAML::Emitter e;
     e << root;
-    text = "# " + path + " as changed by " + set + "\n" + e.c_str() + "\n";
+    text = "# " + path + " as changed by:\n";
     for (const std::string& o : overrides) text += "# --set " + o + "\n";
+    text += std::string(e.c_str()) + "\n";
   }
   try {
     LegScene s = scene_from(root, path, text);

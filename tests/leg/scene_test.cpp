@@ -102,7 +102,9 @@ TEST(LegScene, SetReplacesOrAddsAFieldAsIfTheFileSaidSo) {
   EXPECT_DOUBLE_EQ(s.model.passive.density, plain.model.passive.density);  // the rest as the file says
   EXPECT_EQ(s.overrides.size(), 3u);
   EXPECT_TRUE(plain.overrides.empty());
-  EXPECT_NE(s.text.find("# --set knee.damping=0.3"), std::string::npos);
+  // What was set heads the text, once each, before the changed scene.
+  EXPECT_EQ(s.text.rfind("# " + file + " as changed by:\n# --set knee.damping=0.3\n", 0), 0u) << s.text;
+  EXPECT_EQ(s.text.find("knee.damping=0.3"), s.text.rfind("knee.damping=0.3")) << s.text;
   EXPECT_EQ(plain.text.find("--set"), std::string::npos);
   // The text is the scene as run: a reader of the results' /meta sees the
   // values set, and the rest as the file has them.
