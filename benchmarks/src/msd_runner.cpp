@@ -112,7 +112,7 @@ MsdProblem compile_msd(const Spec& spec) {
   o.nonlinear_threshold = ms.nonlinear_threshold;
   o.threads = ms.threads;
   o.newton = {ms.newton_tolerance, ms.newton_max_iterations, ms.newton_max_step_cuts, ms.newton_reuse_factorization,
-              msd::parse_linear_solver(ms.newton_linear_solver), ms.newton_keep_orientation};
+              msd::parse_linear_solver(ms.newton_linear_solver), ms.newton_keep_orientation, ms.newton_anderson_depth};
   o.reference_forces = ms.forces == "reference";
   const bool bulk = o.terms & msd::kBulk;
   if (ms.continuum_volume == "per_cube" || bulk) {

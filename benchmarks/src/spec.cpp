@@ -140,7 +140,8 @@ void parse_edge_classes(const Fields& f, MsdSpec& m) {
 
 const std::vector<std::string>& newton_fields() {
   static const std::vector<std::string> fields{"newton_tolerance", "newton_max_iterations", "newton_max_step_cuts",
-                                               "newton_reuse_factorization", "newton_linear_solver", "newton_keep_orientation"};
+                                               "newton_reuse_factorization", "newton_linear_solver", "newton_keep_orientation",
+                                               "newton_anderson_depth"};
   return fields;
 }
 
@@ -155,7 +156,7 @@ MsdSpec parse_msd(const Fields& f) {
           "volume_factor", "damping_time", "repulsion_floor", "mass_lumping", "terms", "nonlinear_threshold",
           "integrator", "dt", "calibration", "rtol", "atol", "threads", "forces", "newton_tolerance",
           "newton_max_iterations", "newton_max_step_cuts", "newton_reuse_factorization", "newton_linear_solver",
-          "newton_keep_orientation",
+          "newton_keep_orientation", "newton_anderson_depth",
           "continuum_volume", "edge_classes", "bulk_factor", "zero_length_springs"});
   MsdSpec m;
   m.constants = choice(f, "msd.constants");
@@ -238,6 +239,7 @@ MsdSpec parse_msd(const Fields& f) {
     m.newton_reuse_factorization = tbio::read_flag(f, spec_parameter("msd.newton_reuse_factorization"));
     m.newton_linear_solver = choice(f, "msd.newton_linear_solver");
     m.newton_keep_orientation = tbio::read_flag(f, spec_parameter("msd.newton_keep_orientation"));
+    m.newton_anderson_depth = static_cast<int>(integer(f, "msd.newton_anderson_depth"));
   } else {
     for (const std::string& k : newton_fields())
       if (f.has(k)) throw msd::Error(f.where(k) + "only meaningful with 'integrator: backward_euler', 'bdf2' or 'quasi_static'");

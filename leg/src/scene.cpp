@@ -147,13 +147,15 @@ void read_run(const Fields& f, const std::string& path, LegScene& s) {
   if (const auto n = f.optional_section("newton")) {
     if (!msd::is_implicit(s.integrator))
       throw msd::Error(f.where("newton") + "only meaningful with 'integrator: backward_euler' or 'bdf2'");
-    n->only({"tolerance", "max_iterations", "max_step_cuts", "reuse_factorization", "linear_solver", "keep_orientation"});
+    n->only({"tolerance", "max_iterations", "max_step_cuts", "reuse_factorization", "linear_solver", "keep_orientation",
+             "anderson_depth"});
     o.newton.tolerance = number(*n, "newton.tolerance");
     o.newton.max_iterations = static_cast<int>(tbio::read_integer(*n, leg_scene_parameter("newton.max_iterations")));
     o.newton.max_step_cuts = static_cast<int>(tbio::read_integer(*n, leg_scene_parameter("newton.max_step_cuts")));
     o.newton.reuse_factorization = tbio::read_flag(*n, leg_scene_parameter("newton.reuse_factorization"));
     o.newton.linear_solver = msd::parse_linear_solver(tbio::read_choice(*n, leg_scene_parameter("newton.linear_solver")));
     o.newton.keep_orientation = tbio::read_flag(*n, leg_scene_parameter("newton.keep_orientation"));
+    o.newton.anderson_depth = static_cast<int>(tbio::read_integer(*n, leg_scene_parameter("newton.anderson_depth")));
   }
 }
 

@@ -43,6 +43,7 @@ std::vector<Parameter> declare() {
       flag("newton.reuse_factorization", model.newton.reuse_factorization, "backward_euler and bdf2 only: modified Newton - try an earlier step's LU factorisation first (false: factorise every iteration)"),
       choice("newton.linear_solver", {"sparse_lu", "symmetric_ldlt"}, msd::to_string(model.newton.linear_solver), "backward_euler and bdf2 only: sparse_lu factorises Newton's matrix (exact Newton); symmetric_ldlt its symmetric part (approximate Newton, cheaper factorisations)"),
       flag("newton.keep_orientation", model.newton.keep_orientation, "backward_euler and bdf2 only: every iterate Newton accepts keeps every tet's orientation"),
+      integer("newton.anderson_depth", model.newton.anderson_depth, Range::closed(0, 8), "backward_euler and bdf2 with reuse_factorization only: Anderson acceleration of the chord steps, mixing in this many earlier ones (0: plain chord steps)"),
       number("output_interval", "s", 0.04, positive, "time between recorded frames (the thesis' 1/25 s); a whole number of steps"),
       vector3("gravity", "m/s^2", model.gravity, "in the leg's frame (z up the leg, x forward)"),
       other("terms", Kind::List, "", "all", "force terms: springs, dampers, repulsion, volume, gravity, neo_hookean (the continuum element, one volume ratio per cube of the mesh; needs materials.*.poisson_ratio)"),

@@ -163,6 +163,29 @@ TEST(MsdRunner, TheLinearSolverIsReadForTheImplicitIntegratorsAndAnUnknownOneIsR
   }
 }
 
+TEST(MsdRunner, TheAndersonDepthIsReadForTheImplicitIntegratorsAndMisuseIsRefusedByName) {
+  std::string text = kSpec;
+  EXPECT_EQ(bench::parse_spec(text, "small.yaml").msd->newton_anderson_depth, 0);  // the default: plain chord steps
+  text.replace(text.find("dt: 1.0e-4"), 10, "dt: 1.0e-2, integrator: bdf2, newton_anderson_depth: 3");
+  const bench::Spec spec = bench::parse_spec(text, "small.yaml");
+  EXPECT_EQ(spec.msd->newton_anderson_depth, 3);
+  EXPECT_EQ(bench::compile_msd(spec).model.newton.anderson_depth, 3);
+  for (const std::string& bad : {std::string("dt: 1.0e-4, newton_anderson_depth: 3"),  // an explicit step
+                                 std::string("dt: 1.0e-2, integrator: bdf2, newton_anderson_depth: 9"),
+                                 std::string("dt: 1.0e-2, integrator: bdf2, newton_anderson_depth: -1")}) {
+    text = kSpec;
+    text.replace(text.find("dt: 1.0e-4"), 10, bad);
+    try {
+      bench::parse_spec(text, "small.yaml");
+      FAIL() << "accepted: " << bad;
+    } catch (const msd::Error& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("small.yaml"), std::string::npos) << what;
+      EXPECT_NE(what.find("newton_anderson_depth"), std::string::npos) << what;
+    }
+  }
+}
+
 TEST(MsdRunner, TheNeoHookeanTermAndItsCubeVolumesAreReadAndMisuseIsRefusedByName) {
   std::string text = kSpec;
   text.replace(text.find("youngs_modulus: 5000"), 20, "youngs_modulus: 5000, poisson_ratio: 0.45");

@@ -307,6 +307,13 @@ TEST(LegScene, TheIntegratorAndItsNewtonSettingsAreReadAndMisuseIsRefused) {
   f = variant_of("drop", "dt: 2.0e-4", "dt: 2.0e-4\nintegrator: bdf2\nnewton: {linear_solver: symmetric_ldlt}",
                  dir + "/ldlt.yaml");
   EXPECT_EQ(leg::read_leg_scene(f).model.newton.linear_solver, msd::LinearSolver::symmetric_ldlt);
+  EXPECT_EQ(leg::read_leg_scene(f).model.newton.anderson_depth, 0);  // plain chord steps by default
+  f = variant_of("drop", "dt: 2.0e-4", "dt: 2.0e-4\nintegrator: bdf2\nnewton: {anderson_depth: 3}", dir + "/anderson.yaml");
+  EXPECT_EQ(leg::read_leg_scene(f).model.newton.anderson_depth, 3);
+  f = variant_of("drop", "dt: 2.0e-4", "dt: 2.0e-4\nintegrator: bdf2\nnewton: {anderson_depth: 9}", dir + "/anderson9.yaml");
+  e = error_of(f);
+  EXPECT_NE(e.find("anderson9.yaml:"), std::string::npos) << e;
+  EXPECT_NE(e.find("anderson_depth"), std::string::npos) << e;
   f = variant_of("drop", "dt: 2.0e-4", "dt: 2.0e-4\nintegrator: bdf2\nnewton: {linear_solver: qr}", dir + "/qr.yaml");
   e = error_of(f);
   EXPECT_NE(e.find("qr.yaml:"), std::string::npos) << e;

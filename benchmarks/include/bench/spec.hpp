@@ -82,6 +82,7 @@ struct MsdSpec {
   bool newton_reuse_factorization = true;  ///< modified Newton (msd::NewtonOptions)
   std::string newton_linear_solver = "sparse_lu";  ///< sparse_lu | symmetric_ldlt (msd::LinearSolver)
   bool newton_keep_orientation = false;  ///< every accepted iterate keeps every tet's orientation (msd::NewtonOptions)
+  int newton_anderson_depth = 0;         ///< Anderson acceleration of the chord steps (msd::NewtonOptions)
   std::string continuum_volume = "per_tet";  ///< per_tet | per_cube: the neo_hookean term's volume ratio (per cube: mean dilatation)
   /// msd.edge_classes.CLASS.{stiffness, tension_exponent, compression_exponent}:
   /// each edge class's factor on k_s and its spring law (msd/forces/spring_law.hpp),

@@ -139,6 +139,8 @@ Model build_model(const TetMesh& mesh, const ModelOptions& options) {
     throw Error("newton max_iterations must be at least 1, got " + std::to_string(options.newton.max_iterations));
   if (options.newton.max_step_cuts < 0)
     throw Error("newton max_step_cuts must be at least 0, got " + std::to_string(options.newton.max_step_cuts));
+  if (options.newton.anderson_depth < 0 || options.newton.anderson_depth > 8)
+    throw Error("newton anderson_depth must be in [0, 8], got " + std::to_string(options.newton.anderson_depth));
   model.newton = options.newton;
   model.reference_forces = options.reference_forces;
   for (size_t r = 0; r < options.region_materials.size(); ++r)

@@ -407,23 +407,27 @@ TEST(ForceEngine, TheImplicitStepsWithTheSymmetricLdltAllocateNothingAfterTheFir
   // Every term of the thesis element (springs, dampers, repulsion, volume),
   // backward Euler and BDF2, on 1 and 2 threads: the Jacobian's assembly, the
   // symmetric part's factorisation and its solves allocate nothing after the
-  // first step.
+  // first step; nor do the Anderson-accelerated chord steps (depth 3).
   for (int threads : {1, 2}) {
-    SCOPED_TRACE(threads);
-    msd::Model m = block(kAll | msd::kGravity, 0.7, threads);
-    m.newton.linear_solver = msd::LinearSolver::symmetric_ldlt;
-    for (msd::Integrator integ : {msd::Integrator::BackwardEuler, msd::Integrator::Bdf2}) {
-      msd::State st = msd::rest_state(m);
-      msd::Points v;
-      deform(m, 0.9, 0.001, st.x, v);
-      msd::Scratch scratch;
-      const msd::Controls c{};
-      msd::step(m, st, c, 1e-3, integ, scratch);  // sizes the system and analyses its pattern
-      const long before = testing_support::allocations();
-      const long factorizations = scratch.factorizations;
-      for (int k = 0; k < 10; ++k) msd::step(m, st, c, 1e-3, integ, scratch);
-      EXPECT_EQ(testing_support::allocations() - before, 0) << msd::to_string(integ);
-      EXPECT_GT(scratch.factorizations, factorizations) << msd::to_string(integ);
+    for (int depth : {0, 3}) {
+      SCOPED_TRACE(threads);
+      SCOPED_TRACE(depth);
+      msd::Model m = block(kAll | msd::kGravity, 0.7, threads);
+      m.newton.linear_solver = msd::LinearSolver::symmetric_ldlt;
+      m.newton.anderson_depth = depth;
+      for (msd::Integrator integ : {msd::Integrator::BackwardEuler, msd::Integrator::Bdf2}) {
+        msd::State st = msd::rest_state(m);
+        msd::Points v;
+        deform(m, 0.9, 0.001, st.x, v);
+        msd::Scratch scratch;
+        const msd::Controls c{};
+        msd::step(m, st, c, 1e-3, integ, scratch);  // sizes the system and analyses its pattern
+        const long before = testing_support::allocations();
+        const long factorizations = scratch.factorizations;
+        for (int k = 0; k < 10; ++k) msd::step(m, st, c, 1e-3, integ, scratch);
+        EXPECT_EQ(testing_support::allocations() - before, 0) << msd::to_string(integ);
+        EXPECT_GT(scratch.factorizations, factorizations) << msd::to_string(integ);
+      }
     }
   }
 }

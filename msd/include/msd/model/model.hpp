@@ -46,6 +46,13 @@ namespace msd {
 /// position derivatives and the non-conservative volume term), at a fraction
 /// of the cost (docs/msd-model.md section 5).
 ///
+/// With `anderson_depth` m > 0 the chord steps are Anderson-accelerated
+/// (Anderson 1965; Walker & Ni 2011): each mixes in the last m chord steps of
+/// the same solve, the mix that minimises |G| were G linear, and is kept on
+/// the same test as a plain one. It only changes the path to the tolerance;
+/// the converged steps meet the same tolerance (msd/src/integrate/implicit.cpp,
+/// anderson_step; measured in benchmarks/README.md).
+///
 /// With `keep_orientation` every iterate Newton accepts keeps every tet's
 /// orientation (signed volume > 0): a first guess that inverts one is replaced
 /// by the step's start positions, a chord step that does is dropped, and the
@@ -63,6 +70,10 @@ struct NewtonOptions {
   bool reuse_factorization = true;
   LinearSolver linear_solver = LinearSolver::sparse_lu;
   bool keep_orientation = false;
+  /// Anderson acceleration of the chord steps: how many earlier chord
+  /// steps of the same Newton solve are mixed into the next (0: plain chord
+  /// steps; at most 8). See the comment above NewtonOptions.
+  int anderson_depth = 0;
 };
 
 /// "sparse_lu" / "symmetric_ldlt"; parse_linear_solver throws msd::Error naming the choices.
