@@ -52,9 +52,10 @@ import sys
 import numpy as np
 
 
-def peaks(t, x, count=4, least_hz=1.0, acceleration=False):
-    """The `count` largest spectral peaks (Hz, relative magnitude) of x(t), t evenly spaced
-    (acceleration: of x's second derivative, the spectrum weighted by (2 pi f)^2)."""
+def spectrum(t, x, least_hz=1.0, acceleration=False):
+    """(f, magnitude, x less its quadratic fit) of x(t), t evenly spaced, above least_hz: x less its
+    quadratic fit (the slow creep), times a Hann window, zero-padded to four times its length, the FFT's
+    magnitude (acceleration: of x's second derivative, the magnitude weighted by (2 pi f)^2)."""
     t = np.asarray(t, float)
     x = np.asarray(x, float)
     s = t - t[0]
@@ -65,7 +66,13 @@ def peaks(t, x, count=4, least_hz=1.0, acceleration=False):
     if acceleration:
         mag = mag * (2 * np.pi * f) ** 2
     keep = f > least_hz
-    f, mag = f[keep], mag[keep]
+    return f[keep], mag[keep], x
+
+
+def peaks(t, x, count=4, least_hz=1.0, acceleration=False):
+    """The `count` largest spectral peaks (Hz, relative magnitude) of x(t), t evenly spaced
+    (acceleration: of x's second derivative), and the RMS of x less its quadratic fit."""
+    f, mag, x = spectrum(t, x, least_hz, acceleration)
     local = [i for i in range(1, len(mag) - 1) if mag[i] >= mag[i - 1] and mag[i] >= mag[i + 1]]
     local.sort(key=lambda i: -mag[i])
     top = mag[local[0]] if local else 1.0
@@ -140,16 +147,11 @@ def skin_peaks(path, box, after):
 
 
 def largest_peak(t, x, least_hz=1.0):
-    """(Hz, magnitude) of the largest peak above least_hz of x's acceleration spectrum, unnormalised so
-    that axes compare; x less its quadratic fit, Hann window, zero-padded four times, as peaks()."""
-    s = t - t[0]
-    x = x - np.polyval(np.polyfit(s, x, 2), s)
-    n = 4 * len(x)
-    f = np.fft.rfftfreq(n, s[1] - s[0])
-    mag = np.abs(np.fft.rfft(x * np.hanning(len(x)), n)) * (2 * np.pi * f) ** 2
-    keep = f > least_hz
-    i = int(np.argmax(mag[keep]))
-    return float(f[keep][i]), float(mag[keep][i])
+    """(Hz, magnitude) of the largest value above least_hz of x's acceleration spectrum (spectrum()),
+    unnormalised so that axes compare."""
+    f, mag, _ = spectrum(t, x, least_hz, acceleration=True)
+    i = int(np.argmax(mag))
+    return float(f[i]), float(mag[i])
 
 
 def report(run_dir, after, count, acceleration=False, skin_box=None):
@@ -168,10 +170,9 @@ def report(run_dir, after, count, acceleration=False, skin_box=None):
         top, rms = peaks(d["time"][m], d["probe_" + axis][m], count, acceleration=acceleration)
         print("  %s: %s   rms %.3g mm" % (axis, ", ".join("%.1f Hz (%.2f)" % p for p in top), 1e3 * rms))
     if skin is not None:
-        f = skin
-        q1, q2, q3 = np.percentile(f, [25, 50, 75])
+        q1, q2, q3 = np.percentile(skin, [25, 50, 75])
         print("  skin in the box (%d vertices), each one's acceleration peak: median %.1f Hz, quartiles %.1f-%.1f Hz, range %.1f-%.1f Hz"
-              % (len(f), q2, q1, q3, f.min(), f.max()))
+              % (len(skin), q2, q1, q3, skin.min(), skin.max()))
 
 
 def self_test():
