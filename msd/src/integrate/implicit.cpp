@@ -428,8 +428,8 @@ struct ImplicitWorkspace {
   // ring of anderson_depth columns, `kept` of them valid (-1: none, and no
   // last iterate either); the last iterate, update and residual.
   Eigen::MatrixXd dv, dd, dg;
-  Eigen::VectorXd last_v, last_d, last_g, mixed;
-  int kept = 0, ring = 0;
+  Eigen::VectorXd last_v, last_d, last_g;
+  int kept = -1, ring = 0;
   // Held contacts (hold_contacts): nodes on a stick obstacle's surface at the
   // step's start move with it over the step and drop out of the solve.
   std::vector<HeldContact> held;
@@ -784,6 +784,22 @@ bool orientation_kept(const Model& model, const ImplicitWorkspace& w) {
   return true;
 }
 
+// Sizes the history for the model (at each Newton solve's start: it
+// allocates only when the model's size or depth changed) and clears it.
+void clear_anderson(const Model& model, ImplicitWorkspace& w) {
+  const int m = model.newton.anderson_depth;
+  const Eigen::Index n = 3 * static_cast<Eigen::Index>(model.num_nodes());
+  if (m > 0 && (w.dv.rows() != n || w.dv.cols() != m)) {
+    w.dv.resize(n, m);
+    w.dd.resize(n, m);
+    w.dg.resize(n, m);
+    w.last_v.resize(n);
+    w.last_d.resize(n);
+    w.last_g.resize(n);
+  }
+  w.kept = -1;
+}
+
 // Anderson acceleration (Anderson 1965, J. ACM 12:547; Walker & Ni 2011,
 // SIAM J. Numer. Anal. 49:1715) of the chord iteration v <- v + d(v),
 // d = J0^-1 (-G(v)), J0 the kept factorisation's matrix. With the last m
@@ -799,23 +815,6 @@ bool orientation_kept(const Model& model, const ImplicitWorkspace& w) {
 // term for nearly parallel columns. w.delta holds d on entry and the update
 // on return; w.r holds G at w.v1. Allocates nothing (clear_anderson sizes
 // the history).
-// Sizes the history for the model (at each Newton solve's start: it
-// allocates only when the model's size or depth changed) and clears it.
-void clear_anderson(const Model& model, ImplicitWorkspace& w) {
-  const int m = model.newton.anderson_depth;
-  const Eigen::Index n = 3 * static_cast<Eigen::Index>(model.num_nodes());
-  if (m > 0 && (w.dv.rows() != n || w.dv.cols() != m)) {
-    w.dv.resize(n, m);
-    w.dd.resize(n, m);
-    w.dg.resize(n, m);
-    w.last_v.resize(n);
-    w.last_d.resize(n);
-    w.last_g.resize(n);
-    w.mixed.resize(n);
-  }
-  w.kept = -1;
-}
-
 void anderson_step(const Model& model, ImplicitWorkspace& w) {
   const int m = model.newton.anderson_depth;
   const Eigen::Index n = w.delta.size();
@@ -847,9 +846,7 @@ void anderson_step(const Model& model, ImplicitWorkspace& w) {
   // A little Tikhonov regularisation keeps nearly parallel columns harmless.
   g.diagonal().array() += 1e-12 * g.trace() + std::numeric_limits<double>::min();
   const SmallVec gamma = g.ldlt().solve(b);
-  w.mixed = w.delta;
-  for (int i = 0; i < k; ++i) w.mixed -= gamma(i) * (w.dv.col(i) + w.dd.col(i));
-  w.delta = w.mixed;
+  for (int i = 0; i < k; ++i) w.delta -= gamma(i) * (w.dv.col(i) + w.dd.col(i));
 }
 
 // What the last Newton solve reached.
@@ -923,7 +920,7 @@ NewtonResult newton(const Model& model, const State& s, const Controls& c, const
     hold_sliding_in_matrix(w.layout, w, w.A);
     w.factored = factorize(model, w);
     ++scratch.factorizations;
-    w.kept = -1;  // a new chord map: the Anderson history is of the old one
+    clear_anderson(model, w);  // a new chord map: the Anderson history is of the old one
     w.held_before.clear();
     for (const HeldContact& hc : w.held) w.held_before.push_back(hc.node);
     w.factor_h = h;
